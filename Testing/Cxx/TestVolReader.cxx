@@ -1,0 +1,232 @@
+// The .vol decoder and vtkDGtalVolReader: round trips through files written
+// here (both versions), a real VolGallery file when ../shared is present, and
+// every corrupt variant failing cleanly.
+#include "dgTestShapes.h"
+#include "dgVolFormat.h"
+#include "vtkDGtalVolReader.h"
+#include "vtkDigitalSurfaceFilter.h"
+
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkUnsignedCharArray.h>
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <random>
+
+namespace
+{
+std::string TempPath(const std::string& name)
+{
+  return ::testing::TempDir() + "dg_" + name;
+}
+
+std::vector<std::uint8_t> RandomVolume(const int dims[3], unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::vector<std::uint8_t> v(std::size_t(dims[0]) * dims[1] * dims[2]);
+  for (auto& x : v)
+  {
+    // Mostly zeros with runs, like a segmentation, plus arbitrary labels.
+    x = (rng() % 4 == 0) ? static_cast<std::uint8_t>(rng() % 256) : 0;
+  }
+  return v;
+}
+
+void WriteBytes(const std::string& path, const std::vector<std::uint8_t>& bytes)
+{
+  std::ofstream out(path, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+}
+
+// Reads through the VTK class, expecting failure: an error and no voxels.
+void ExpectReaderFails(const std::string& path, const char* what)
+{
+  vtkNew<vtkDGtalVolReader> reader;
+  vtkNew<dgtest::ErrorObserver> obs;
+  obs->Observe(reader);
+  obs->Observe(reader->GetExecutive());
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  EXPECT_GE(obs->Errors, 1) << what;
+  EXPECT_EQ(reader->GetOutput()->GetNumberOfPoints() > 0 &&
+      reader->GetOutput()->GetPointData()->GetScalars() != nullptr,
+    false)
+    << what;
+  EXPECT_STRNE(reader->GetErrorMessage(), "") << what;
+}
+} // namespace
+
+TEST(VolReader, RoundTripBothVersions)
+{
+  const int dims[3] = { 7, 5, 9 };
+  const auto voxels = RandomVolume(dims, 3);
+  for (int version : { 2, 3 })
+  {
+    const std::string path = TempPath("roundtrip" + std::to_string(version) + ".vol");
+    std::string error;
+    ASSERT_TRUE(dg::WriteVolFile(path, dims, voxels.data(), version, error)) << error;
+    vtkNew<vtkDGtalVolReader> reader;
+    ASSERT_EQ(reader->CanReadFile(path.c_str()), 1);
+    reader->SetFileName(path.c_str());
+    reader->Update();
+    vtkImageData* image = reader->GetOutput();
+    int d[3];
+    image->GetDimensions(d);
+    EXPECT_EQ(d[0], 7);
+    EXPECT_EQ(d[1], 5);
+    EXPECT_EQ(d[2], 9);
+    auto* s = vtkUnsignedCharArray::SafeDownCast(image->GetPointData()->GetScalars());
+    ASSERT_NE(s, nullptr);
+    ASSERT_EQ(s->GetNumberOfValues(), static_cast<vtkIdType>(voxels.size()));
+    // x fastest, as in VTK's point order.
+    for (int k = 0; k < dims[2]; ++k)
+      for (int j = 0; j < dims[1]; ++j)
+        for (int i = 0; i < dims[0]; ++i)
+        {
+          const std::size_t idx = (std::size_t(k) * dims[1] + j) * dims[0] + i;
+          ASSERT_EQ(image->GetScalarComponentAsDouble(i, j, k, 0), voxels[idx]);
+        }
+  }
+}
+
+TEST(VolReader, HandWrittenVersionTwoFile)
+{
+  // A single voxel of value 128 at the centre of a 3^3 volume, as DGtal writes it.
+  std::string text = "Center-X: 1\nCenter-Y: 1\nCenter-Z: 1\nX: 3\nY: 3\nZ: 3\nVoxel-Size: 2\n"
+                     "Alpha-Color: 0\nVoxel-Endian: 0\nInt-Endian: 0123\nVersion: 2\n.\n";
+  std::vector<std::uint8_t> bytes(text.begin(), text.end());
+  for (int a = 0; a < 27; ++a)
+  {
+    bytes.push_back(a == 13 ? 128 : 0);
+  }
+  const std::string path = TempPath("onevoxel.vol");
+  WriteBytes(path, bytes);
+  vtkNew<vtkDGtalVolReader> reader;
+  reader->SetFileName(path.c_str());
+  vtkNew<vtkDigitalSurfaceFilter> surface;
+  surface->SetInputConnection(reader->GetOutputPort());
+  surface->Update();
+  EXPECT_EQ(surface->GetOutput()->GetNumberOfPolys(), 6);
+  EXPECT_EQ(reader->GetOutput()->GetSpacing()[0], 2.0);
+  double b[6];
+  surface->GetOutput()->GetBounds(b);
+  EXPECT_DOUBLE_EQ(b[0], 1.0); // voxel 1 at x = 2, half a voxel is 1
+  EXPECT_DOUBLE_EQ(b[1], 3.0);
+}
+
+TEST(VolReader, RealVolGalleryFileWhenPresent)
+{
+  const std::string path = std::string(DG_SHARED_DATA_DIR) + "/fandisk-64.vol";
+  std::ifstream probe(path);
+  if (!probe)
+  {
+    GTEST_SKIP() << "../shared/data/volgallery is absent";
+  }
+  std::ifstream in(path, std::ios::binary);
+  std::vector<std::uint8_t> bytes(
+    (std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  dg::VolHeader header;
+  std::vector<std::uint8_t> direct;
+  std::string error;
+  ASSERT_TRUE(dg::ParseVol(bytes.data(), bytes.size(), header, &direct, error)) << error;
+  EXPECT_EQ(header.Version, 3);
+  vtkNew<vtkDGtalVolReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  auto* s = vtkUnsignedCharArray::SafeDownCast(reader->GetOutput()->GetPointData()->GetScalars());
+  ASSERT_NE(s, nullptr);
+  ASSERT_EQ(s->GetNumberOfValues(), 64 * 64 * 64);
+  long inside = 0;
+  for (vtkIdType p = 0; p < s->GetNumberOfValues(); ++p)
+  {
+    ASSERT_EQ(s->GetValue(p), direct[p]);
+    inside += s->GetValue(p) != 0;
+  }
+  EXPECT_GT(inside, 1000);
+  vtkNew<vtkDigitalSurfaceFilter> surface;
+  surface->SetInputConnection(reader->GetOutputPort());
+  surface->Update();
+  EXPECT_GT(surface->GetOutput()->GetNumberOfPolys(), 1000);
+}
+
+TEST(VolReader, CorruptFilesFailCleanly)
+{
+  const int dims[3] = { 6, 6, 6 };
+  const auto voxels = RandomVolume(dims, 11);
+  std::vector<std::uint8_t> v2, v3;
+  std::string error;
+  ASSERT_TRUE(dg::EncodeVol(dims, voxels.data(), 2, v2, error));
+  ASSERT_TRUE(dg::EncodeVol(dims, voxels.data(), 3, v3, error));
+  const std::string text(v2.begin(), v2.end());
+  const std::size_t headerEnd = text.find("\n.\n") + 3;
+
+  // Truncated at several points: inside the header, right after it, mid-data.
+  for (const auto* file : { &v2, &v3 })
+  {
+    for (std::size_t cut : { std::size_t(0), std::size_t(5), headerEnd - 2, headerEnd,
+           headerEnd + 3, file->size() - 1 })
+    {
+      std::vector<std::uint8_t> t(file->begin(), file->begin() + cut);
+      const std::string path = TempPath("trunc.vol");
+      WriteBytes(path, t);
+      ExpectReaderFails(path, ("truncated at " + std::to_string(cut)).c_str());
+    }
+  }
+  // Bad header lines.
+  auto replace = [&](const std::string& from, const std::string& to) {
+    std::string s(v2.begin(), v2.end());
+    s.replace(s.find(from), from.size(), to);
+    return std::vector<std::uint8_t>(s.begin(), s.end());
+  };
+  const std::pair<const char*, std::vector<std::uint8_t>> bad[] = {
+    { "no colon", replace("X: 6", "X 6") },
+    { "negative dimension", replace("X: 6", "X: -6") },
+    { "non-numeric dimension", replace("Y: 6", "Y: six") },
+    { "huge dimension", replace("Z: 6", "Z: 99999999999") },
+    { "unknown version", replace("Version: 2", "Version: 7") },
+    { "dimensions larger than data", replace("X: 6", "X: 7") },
+    { "dimensions smaller than data", replace("X: 6", "X: 5") },
+    { "bad voxel size", replace("Voxel-Size: 1", "Voxel-Size: -1") },
+  };
+  for (const auto& b : bad)
+  {
+    const std::string path = TempPath("bad.vol");
+    WriteBytes(path, b.second);
+    ExpectReaderFails(path, b.first);
+  }
+  // Flipped bytes in the zlib stream: every flip must fail or decode to
+  // exactly the right size (zlib's Adler-32 catches almost all).
+  const std::string t3(v3.begin(), v3.end());
+  const std::size_t z0 = t3.find("\n.\n") + 3;
+  int failures = 0;
+  for (std::size_t pos = z0; pos < v3.size(); pos += 3)
+  {
+    std::vector<std::uint8_t> c = v3;
+    c[pos] ^= 0x5A;
+    dg::VolHeader h;
+    std::vector<std::uint8_t> out;
+    std::string err;
+    if (!dg::ParseVol(c.data(), c.size(), h, &out, err))
+    {
+      ++failures;
+      EXPECT_FALSE(err.empty());
+    }
+    else
+    {
+      EXPECT_EQ(out.size(), voxels.size());
+    }
+  }
+  EXPECT_GT(failures, 0);
+  // A flipped byte in the stream through the reader class.
+  std::vector<std::uint8_t> c = v3;
+  c[z0 + 1] ^= 0xFF;
+  const std::string path = TempPath("flip.vol");
+  WriteBytes(path, c);
+  ExpectReaderFails(path, "flipped zlib header byte");
+  ExpectReaderFails(TempPath("does-not-exist.vol"), "missing file");
+}

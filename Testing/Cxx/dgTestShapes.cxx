@@ -1,0 +1,81 @@
+#include "dgTestShapes.h"
+
+#include <vtkDataArray.h>
+#include <vtkPointData.h>
+
+namespace dgtest
+{
+
+vtkSmartPointer<vtkImageData> MakeImage(
+  int nx, int ny, int nz, const std::function<double(int, int, int)>& value, int vtkType)
+{
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(nx, ny, nz);
+  image->AllocateScalars(vtkType, 1);
+  vtkDataArray* s = image->GetPointData()->GetScalars();
+  s->SetName("Value");
+  vtkIdType id = 0;
+  for (int k = 0; k < nz; ++k)
+  {
+    for (int j = 0; j < ny; ++j)
+    {
+      for (int i = 0; i < nx; ++i)
+      {
+        s->SetTuple1(id++, value(i, j, k));
+      }
+    }
+  }
+  return image;
+}
+
+vtkSmartPointer<vtkImageData> Digitize(
+  int n, const std::function<bool(double, double, double)>& inside)
+{
+  return MakeImage(n, n, n, [&](int i, int j, int k) { return inside(i, j, k) ? 1.0 : 0.0; });
+}
+
+vtkSmartPointer<vtkImageData> Ball(int n, double r)
+{
+  const double c = 0.5 * (n - 1) + 0.123;
+  return Digitize(n, [=](double x, double y, double z) {
+    return (x - c) * (x - c) + (y - c) * (y - c) + (z - c) * (z - c) <= r * r;
+  });
+}
+
+vtkSmartPointer<vtkImageData> RandomVoxels(int nx, int ny, int nz, double p, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::bernoulli_distribution coin(p);
+  return MakeImage(nx, ny, nz, [&](int, int, int) { return coin(rng) ? 1.0 : 0.0; });
+}
+
+void ErrorObserver::Execute(vtkObject*, unsigned long event, void* data)
+{
+  if (event == vtkCommand::ErrorEvent)
+  {
+    ++this->Errors;
+  }
+  else if (event == vtkCommand::WarningEvent)
+  {
+    ++this->Warnings;
+  }
+  if (data)
+  {
+    this->Messages += static_cast<const char*>(data);
+    this->Messages += "\n";
+  }
+}
+
+void ErrorObserver::Observe(vtkObject* o)
+{
+  o->AddObserver(vtkCommand::ErrorEvent, this);
+  o->AddObserver(vtkCommand::WarningEvent, this);
+}
+
+void ErrorObserver::Clear()
+{
+  this->Errors = this->Warnings = 0;
+  this->Messages.clear();
+}
+
+} // namespace dgtest

@@ -1,0 +1,51 @@
+// Shapes and helpers shared by the C++ tests: volumes built from implicit
+// functions (so that true normals and sharp edges are known), random voxel
+// sets, and an observer that records VTK errors and warnings.
+#ifndef dgTestShapes_h
+#define dgTestShapes_h
+
+#include <vtkCommand.h>
+#include <vtkExecutive.h>
+#include <vtkImageData.h>
+#include <vtkSmartPointer.h>
+
+#include <functional>
+#include <random>
+#include <string>
+
+namespace dgtest
+{
+
+/// An image of nx*ny*nz voxels (extent from 0, origin 0, spacing 1) whose
+/// point scalars (type vtkType) hold value(i, j, k).
+vtkSmartPointer<vtkImageData> MakeImage(int nx, int ny, int nz,
+  const std::function<double(int, int, int)>& value, int vtkType = VTK_UNSIGNED_CHAR);
+
+/// Digitises an implicit shape: voxel (i, j, k) is inside (value 1) when
+/// inside(i, j, k) holds at its centre (grid coordinates).
+vtkSmartPointer<vtkImageData> Digitize(
+  int n, const std::function<bool(double, double, double)>& inside);
+
+/// A digitised ball of radius r centred in an n^3 image (centre slightly off
+/// the grid so that no voxel centre sits exactly on the sphere).
+vtkSmartPointer<vtkImageData> Ball(int n, double r);
+
+/// Random voxel set: each voxel inside with probability p.
+vtkSmartPointer<vtkImageData> RandomVoxels(int nx, int ny, int nz, double p, unsigned seed);
+
+/// Records errors and warnings emitted by a VTK object.
+class ErrorObserver : public vtkCommand
+{
+public:
+  static ErrorObserver* New() { return new ErrorObserver; }
+  void Execute(vtkObject*, unsigned long event, void* data) override;
+  void Observe(vtkObject* o);
+  void Clear();
+  int Errors = 0;
+  int Warnings = 0;
+  std::string Messages;
+};
+
+} // namespace dgtest
+
+#endif
