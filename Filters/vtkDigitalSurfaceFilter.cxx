@@ -1,11 +1,10 @@
 #include "vtkDigitalSurfaceFilter.h"
 
 #include "dgCubicalSurface.h"
+#include "dgVoxelSelection.h"
 
-#include <vtkArrayDispatch.h>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
-#include <vtkDataArrayRange.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkFloatArray.h>
@@ -22,69 +21,9 @@
 #include <vtkSMPTools.h>
 #include <vtkUnsignedCharArray.h>
 
-#include <atomic>
 #include <cmath>
 
 vtkStandardNewMacro(vtkDigitalSurfaceFilter);
-
-namespace
-{
-
-struct Selection
-{
-  int Mode;
-  double Lower, Upper, Label;
-  bool operator()(double v) const
-  {
-    switch (this->Mode)
-    {
-      case vtkDigitalSurfaceFilter::RANGE:
-        return v >= this->Lower && v <= this->Upper;
-      case vtkDigitalSurfaceFilter::LABEL:
-        return v == this->Label;
-      default:
-        return v != 0.0;
-    }
-  }
-};
-
-// Fills the padded mask from any numeric array, one row per task.
-struct MaskWorker
-{
-  template <typename ArrayT>
-  void operator()(ArrayT* array, dg::PaddedMask& mask, int component, const Selection& select,
-    std::atomic<bool>& sawNaN, std::atomic<std::int64_t>& insideCount) const
-  {
-    const auto values = vtk::DataArrayValueRange(array);
-    const int nc = array->GetNumberOfComponents();
-    const int nx = mask.Dims[0], ny = mask.Dims[1];
-    const std::int64_t rows = static_cast<std::int64_t>(ny) * mask.Dims[2];
-    vtkSMPTools::For(0, rows, [&](std::int64_t begin, std::int64_t end) {
-      std::int64_t count = 0;
-      bool nan = false;
-      for (std::int64_t r = begin; r < end; ++r)
-      {
-        std::uint8_t* out = mask.Data.data() + r * mask.RowLength() + 1;
-        const std::int64_t base = r * nx;
-        for (int i = 0; i < nx; ++i)
-        {
-          const double v = static_cast<double>(values[(base + i) * nc + component]);
-          nan |= std::isnan(v);
-          const bool in = select(v);
-          out[i] = in;
-          count += in;
-        }
-      }
-      insideCount += count;
-      if (nan)
-      {
-        sawNaN = true;
-      }
-    });
-  }
-};
-
-} // namespace
 
 vtkDigitalSurfaceFilter::vtkDigitalSurfaceFilter()
 {
@@ -128,63 +67,21 @@ int vtkDigitalSurfaceFilter::RequestData(
     return 0;
   }
   vtkDataArray* scalars = this->GetInputArrayToProcess(0, inputVector);
-  if (!scalars)
-  {
-    vtkErrorMacro("Input image has no point scalars to select voxels from (set the active "
-                  "scalars or call SetInputArrayToProcess).");
-    return 0;
-  }
-  const std::int64_t nVoxels = static_cast<std::int64_t>(dims[0]) * dims[1] * dims[2];
-  if (scalars->GetNumberOfTuples() != nVoxels)
-  {
-    vtkErrorMacro("Array '" << (scalars->GetName() ? scalars->GetName() : "(unnamed)") << "' has "
-                            << scalars->GetNumberOfTuples() << " tuples, the image has " << nVoxels
-                            << " points: only point data can select voxels.");
-    return 0;
-  }
-  const int nc = scalars->GetNumberOfComponents();
-  int component = this->SelectedComponent;
-  if (component < 0)
-  {
-    if (nc != 1)
-    {
-      vtkErrorMacro("Array '" << (scalars->GetName() ? scalars->GetName() : "(unnamed)")
-                              << "' has " << nc
-                              << " components: choose one with SetSelectedComponent.");
-      return 0;
-    }
-    component = 0;
-  }
-  if (component >= nc)
-  {
-    vtkErrorMacro("SelectedComponent " << component << " is out of range (the array has " << nc
-                                       << " components).");
-    return 0;
-  }
-  if (this->SelectionMode == RANGE && !(this->LowerThreshold <= this->UpperThreshold))
-  {
-    vtkErrorMacro("Empty threshold range [" << this->LowerThreshold << ", "
-                                            << this->UpperThreshold << "].");
-    return 0;
-  }
 
   // 1. Selection mask.
   dg::PaddedMask mask;
   mask.Allocate(dims[0], dims[1], dims[2]);
-  const Selection select{ this->SelectionMode, this->LowerThreshold, this->UpperThreshold,
-    this->Label };
-  std::atomic<bool> sawNaN(false);
-  std::atomic<std::int64_t> insideCount(0);
-  MaskWorker worker;
-  if (!vtkArrayDispatch::Dispatch::Execute(
-        scalars, worker, mask, component, select, sawNaN, insideCount))
+  dg::VoxelSelection select;
+  select.Mode = this->SelectionMode;
+  select.Lower = this->LowerThreshold;
+  select.Upper = this->UpperThreshold;
+  select.LabelValue = this->Label;
+  select.Component = this->SelectedComponent;
+  std::int64_t insideCount = 0;
+  std::string error;
+  if (!dg::SelectVoxels(scalars, dims, select, mask.Data.data(), mask.RowLength(), 1, insideCount, error))
   {
-    worker(scalars, mask, component, select, sawNaN, insideCount);
-  }
-  if (sawNaN)
-  {
-    vtkErrorMacro("Array '" << (scalars->GetName() ? scalars->GetName() : "(unnamed)")
-                            << "' holds NaN values: the selection of inside voxels is undefined.");
+    vtkErrorMacro("Cannot select voxels: " << error << ".");
     return 0;
   }
   if (insideCount == 0)

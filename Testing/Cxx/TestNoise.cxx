@@ -128,3 +128,68 @@ TEST(Noise, SameSeedSameVolumeOtherSeedOtherVolume)
   EXPECT_EQ(a, b);
   EXPECT_NE(a, c);
 }
+
+#include "dgTestShapes.h"
+#include "vtkDigitalNoiseFilter.h"
+
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkSMPTools.h>
+#include <vtkUnsignedCharArray.h>
+
+namespace
+{
+std::vector<std::uint8_t> NoisyValues(vtkImageData* image, double k, unsigned seed)
+{
+  vtkNew<vtkDigitalNoiseFilter> noise;
+  noise->SetInputData(image);
+  noise->SetNoiseLevel(k);
+  noise->SetSeed(seed);
+  noise->Update();
+  auto* s = vtkUnsignedCharArray::SafeDownCast(noise->GetOutput()->GetPointData()->GetScalars());
+  if (!s)
+  {
+    return {};
+  }
+  return std::vector<std::uint8_t>(s->GetPointer(0), s->GetPointer(0) + s->GetNumberOfValues());
+}
+} // namespace
+
+TEST(NoiseFilter, LevelZeroIsTheSelectionAndSeedsRepeatAcrossThreadCounts)
+{
+  // Labels 0..3: the default selection (non-zero) keeps 1, 2 and 3.
+  auto labels = dgtest::MakeImage(20, 18, 16, [](int i, int j, int k) {
+    return (i > 3 && i < 15 && j > 3 && j < 14 && k > 2 && k < 13) ? 1.0 + (i + j) % 3 : 0.0;
+  }, VTK_SHORT);
+  auto clean = NoisyValues(labels, 0.0, 1);
+  ASSERT_EQ(clean.size(), 20u * 18 * 16);
+  for (int k = 0; k < 16; ++k)
+    for (int j = 0; j < 18; ++j)
+      for (int i = 0; i < 20; ++i)
+        ASSERT_EQ(clean[(k * 18 + j) * 20 + i], labels->GetScalarComponentAsDouble(i, j, k, 0) != 0);
+
+  const std::string backend = vtkSMPTools::GetBackend();
+  vtkSMPTools::SetBackend("Sequential");
+  auto a = NoisyValues(labels, 0.4, 9);
+  vtkSMPTools::SetBackend("STDThread");
+  auto b = NoisyValues(labels, 0.4, 9);
+  vtkSMPTools::SetBackend(backend.c_str());
+  EXPECT_EQ(a, b);
+  EXPECT_NE(a, clean);
+  EXPECT_NE(a, NoisyValues(labels, 0.4, 10));
+}
+
+TEST(NoiseFilter, BadInputGivesAnError)
+{
+  vtkNew<vtkImageData> noScalars;
+  noScalars->SetDimensions(4, 4, 4);
+  vtkNew<vtkDigitalNoiseFilter> noise;
+  vtkNew<dgtest::ErrorObserver> obs;
+  obs->Observe(noise);
+  obs->Observe(noise->GetExecutive());
+  noise->SetInputData(noScalars);
+  noise->Update();
+  EXPECT_GE(obs->Errors, 1);
+  EXPECT_EQ(noise->GetOutput()->GetPointData()->GetScalars(), nullptr);
+}

@@ -1,0 +1,90 @@
+#include "vtkDigitalNoiseFilter.h"
+
+#include "dgNoise.h"
+#include "dgVoxelSelection.h"
+
+#include <vtkImageData.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkObjectFactory.h>
+#include <vtkPointData.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
+#include <vtkUnsignedCharArray.h>
+
+#include <cstring>
+
+vtkStandardNewMacro(vtkDigitalNoiseFilter);
+
+vtkDigitalNoiseFilter::vtkDigitalNoiseFilter()
+{
+  this->SetInputArrayToProcess(
+    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
+}
+
+int vtkDigitalNoiseFilter::RequestInformation(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  vtkDataObject::SetPointDataActiveScalarInfo(
+    outputVector->GetInformationObject(0), VTK_UNSIGNED_CHAR, 1);
+  return 1;
+}
+
+int vtkDigitalNoiseFilter::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkImageData* input = vtkImageData::GetData(inputVector[0]);
+  vtkImageData* output = vtkImageData::GetData(outputVector);
+  this->NumberOfFlippedVoxels = 0;
+  if (!input || !output)
+  {
+    vtkErrorMacro("Missing input image.");
+    return 0;
+  }
+  int ext[6];
+  input->GetExtent(ext);
+  const int dims[3] = { ext[1] - ext[0] + 1, ext[3] - ext[2] + 1, ext[5] - ext[4] + 1 };
+  if (dims[0] <= 0 || dims[1] <= 0 || dims[2] <= 0)
+  {
+    vtkErrorMacro("Input image is empty.");
+    return 0;
+  }
+  dg::VoxelSelection select;
+  select.Mode = this->SelectionMode;
+  select.Lower = this->LowerThreshold;
+  select.Upper = this->UpperThreshold;
+  select.LabelValue = this->Label;
+  select.Component = this->SelectedComponent;
+  std::vector<std::uint8_t> inside(static_cast<std::size_t>(dims[0]) * dims[1] * dims[2]);
+  std::int64_t count = 0;
+  std::string error;
+  if (!dg::SelectVoxels(this->GetInputArrayToProcess(0, inputVector), dims, select, inside.data(),
+        dims[0], 0, count, error))
+  {
+    vtkErrorMacro("Cannot select voxels: " << error << ".");
+    return 0;
+  }
+  this->UpdateProgress(0.2);
+  this->NumberOfFlippedVoxels = dg::ApplyNoise(inside, dims, this->NoiseLevel, this->Seed);
+  this->UpdateProgress(0.9);
+
+  output->CopyStructure(input);
+  vtkNew<vtkUnsignedCharArray> values;
+  values->SetName("Inside");
+  values->SetNumberOfValues(static_cast<vtkIdType>(inside.size()));
+  std::memcpy(values->GetPointer(0), inside.data(), inside.size());
+  output->GetPointData()->SetScalars(values);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkDigitalNoiseFilter::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "NoiseLevel: " << this->NoiseLevel << "\n";
+  os << indent << "Seed: " << this->Seed << "\n";
+  os << indent << "SelectionMode: " << this->SelectionMode << "\n";
+  os << indent << "LowerThreshold: " << this->LowerThreshold << "\n";
+  os << indent << "UpperThreshold: " << this->UpperThreshold << "\n";
+  os << indent << "Label: " << this->Label << "\n";
+  os << indent << "SelectedComponent: " << this->SelectedComponent << "\n";
+}
