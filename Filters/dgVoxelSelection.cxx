@@ -2,6 +2,9 @@
 
 #include <vtkArrayDispatch.h>
 #include <vtkDataArray.h>
+#include <vtkDataSet.h>
+#include <vtkInformation.h>
+#include <vtkPointData.h>
 #include <vtkDataArrayRange.h>
 #include <vtkSMPTools.h>
 
@@ -54,6 +57,18 @@ std::string NameOf(vtkDataArray* a)
   return a->GetName() ? std::string("'") + a->GetName() + "'" : std::string("(unnamed)");
 }
 } // namespace
+
+vtkDataArray* SelectionArray(vtkDataArray* chosen, vtkInformation* arrayInfo, vtkDataSet* input)
+{
+  const char* name = arrayInfo && arrayInfo->Has(vtkDataObject::FIELD_NAME())
+    ? arrayInfo->Get(vtkDataObject::FIELD_NAME())
+    : nullptr;
+  if (!chosen && name && !*name && input)
+  {
+    return input->GetPointData()->GetScalars();
+  }
+  return chosen;
+}
 
 bool SelectVoxels(vtkDataArray* scalars, const int dims[3], const VoxelSelection& selection,
   std::uint8_t* dst, std::int64_t rowStride, int rowOffset, std::int64_t& insideCount,

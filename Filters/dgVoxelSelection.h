@@ -8,6 +8,8 @@
 #include <string>
 
 class vtkDataArray;
+class vtkDataSet;
+class vtkInformation;
 
 namespace dg
 {
@@ -45,6 +47,11 @@ struct VoxelSelection
 bool SelectVoxels(vtkDataArray* scalars, const int dims[3], const VoxelSelection& selection,
   std::uint8_t* dst, std::int64_t rowStride, int rowOffset, std::int64_t& insideCount,
   std::string& error);
+
+/// The array chosen with SetInputArrayToProcess (chosen, arrayInfo); when no
+/// array name was given (ParaView sends an empty name before the
+/// input's arrays are known), the active point scalars.
+vtkDataArray* SelectionArray(vtkDataArray* chosen, vtkInformation* arrayInfo, vtkDataSet* input);
 
 } // namespace dg
 

@@ -57,14 +57,16 @@ int vtkDigitalNoiseFilter::RequestData(
   std::vector<std::uint8_t> inside(static_cast<std::size_t>(dims[0]) * dims[1] * dims[2]);
   std::int64_t count = 0;
   std::string error;
-  if (!dg::SelectVoxels(this->GetInputArrayToProcess(0, inputVector), dims, select, inside.data(),
+  if (!dg::SelectVoxels(dg::SelectionArray(this->GetInputArrayToProcess(0, inputVector),
+    this->GetInputArrayInformation(0), input), dims, select, inside.data(),
         dims[0], 0, count, error))
   {
     vtkErrorMacro("Cannot select voxels: " << error << ".");
     return 0;
   }
   this->UpdateProgress(0.2);
-  this->NumberOfFlippedVoxels = dg::ApplyNoise(inside, dims, this->NoiseLevel, this->Seed);
+  this->NumberOfFlippedVoxels =
+    dg::ApplyNoise(inside, dims, this->NoiseLevel, static_cast<std::uint64_t>(this->Seed));
   this->UpdateProgress(0.9);
 
   output->CopyStructure(input);

@@ -38,10 +38,10 @@ public:
 
   ///@{
   /**
-   * Seed of the random draws (default 0).
+   * Seed of the random draws, >= 0 (default 0).
    */
-  vtkSetMacro(Seed, vtkTypeUInt64);
-  vtkGetMacro(Seed, vtkTypeUInt64);
+  vtkSetClampMacro(Seed, int, 0, VTK_INT_MAX);
+  vtkGetMacro(Seed, int);
   ///@}
 
   ///@{
@@ -74,7 +74,7 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   double NoiseLevel = 0.3;
-  vtkTypeUInt64 Seed = 0;
+  int Seed = 0;
   int SelectionMode = 0;
   double LowerThreshold = 1.0;
   double UpperThreshold = VTK_DOUBLE_MAX;

@@ -66,7 +66,8 @@ int vtkDigitalSurfaceFilter::RequestData(
                                     << dims[0] << " x " << dims[1] << " x " << dims[2] << ").");
     return 0;
   }
-  vtkDataArray* scalars = this->GetInputArrayToProcess(0, inputVector);
+  vtkDataArray* scalars = dg::SelectionArray(this->GetInputArrayToProcess(0, inputVector),
+    this->GetInputArrayInformation(0), input);
 
   // 1. Selection mask.
   dg::PaddedMask mask;

@@ -11,6 +11,11 @@ DG_PACKAGES=(
   paraview paraview-dev python3-paraview libopenmpi-dev
   libeigen3-dev libsuitesparse-dev zlib1g-dev libgtest-dev
   xvfb xauth python3-numpy
+  # find_package(ParaView) loads ParaView's whole VTK, whose CMake config
+  # looks for these development packages (paraview-dev does not pull them).
+  libdouble-conversion-dev liblz4-dev liblzma-dev libexpat1-dev libutfcpp-dev
+  libpng-dev libjpeg-dev libtiff-dev libfreetype-dev libxml2-dev libglew-dev
+  libgl-dev libx11-dev libxt-dev
 )
 
 dg_missing_packages() {

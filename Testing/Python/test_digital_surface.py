@@ -73,6 +73,9 @@ tmp = os.environ.get("DG_TEST_TMP", tempfile.gettempdir())
 path = os.path.join(tmp, "py_surface.vtp")
 surf.SetSelectionModeToNonZero()
 w = vtkXMLPolyDataWriter()
+# Inline binary: appended data is misparsed by VTK 9.2's reader with Debian's
+# current expat (2.5.0-1+deb12u5 defers reparsing into the raw section).
+w.SetDataModeToBinary()
 w.SetInputConnection(surf.GetOutputPort())
 w.SetFileName(path)
 check(w.Write() == 1, "written to %s" % path)
