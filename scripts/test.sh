@@ -1,7 +1,15 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds, and runs the whole test suite.
+# Installs what is missing, builds, and runs the whole test suite: the main
+# build (ParaView's VTK 9.2: C++, Python, plugin), then the same module built
+# against Debian's plain VTK 9.1 with its C++ tests (DG_SKIP_VTK91=1 skips it).
 set -euo pipefail
 source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/setup.sh"
-cd "$DG_BUILD"
 export VTK_SMP_BACKEND_IN_USE="${VTK_SMP_BACKEND_IN_USE:-STDThread}"
-xvfb-run -a -s "-screen 0 1280x1024x24" ctest --output-on-failure -j2 "$@"
+status=0
+(cd "$DG_BUILD" && xvfb-run -a -s "-screen 0 1280x1024x24" ctest --output-on-failure -j2 "$@") || status=1
+if [ "${DG_SKIP_VTK91:-0}" != "1" ]; then
+  echo "[test] module against Debian's VTK 9.1 (no ParaView, no Python)"
+  bash "$DG_ROOT/scripts/build-vtk91.sh"
+  (cd "$DG_ROOT/build-vtk91/build" && ctest --output-on-failure -j2 "$@") || status=1
+fi
+exit $status
