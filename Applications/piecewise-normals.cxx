@@ -138,7 +138,7 @@ int main(int argc, char* argv[])
   vtkNew<vtkXMLPolyDataWriter> writer;
   writer->SetInputConnection(surface->GetOutputPort());
   writer->SetFileName(tmp.c_str());
-  writer->SetDataModeToAppended();
+  writer->SetDataModeToBinary(); // appended data trips Debian's expat + VTK 9.2 reader
   writer->SetCompressorTypeToZLib();
   if (!writer->Write() || std::rename(tmp.c_str(), path.c_str()) != 0)
   {
