@@ -2,7 +2,8 @@
 # Installs what is missing, builds, and runs the whole test suite: the main
 # build (ParaView's VTK 9.2: C++, Python, plugin), then the same module built
 # against Debian's plain VTK 9.1 with its C++ tests (DG_SKIP_VTK91=1 skips it),
-# then the C++ tests under ASan + UBSan (DG_SKIP_SANITIZERS=1 skips them).
+# then the C++ tests under ASan + UBSan (DG_SKIP_SANITIZERS=1 skips them)
+# and short libFuzzer runs (DG_SKIP_FUZZ=1 skips them).
 set -euo pipefail
 source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/setup.sh"
 export VTK_SMP_BACKEND_IN_USE="${VTK_SMP_BACKEND_IN_USE:-STDThread}"
@@ -16,5 +17,9 @@ fi
 if [ "${DG_SKIP_SANITIZERS:-0}" != "1" ]; then
   echo "[test] C++ tests under AddressSanitizer + UndefinedBehaviorSanitizer"
   bash "$DG_ROOT/scripts/test-sanitizers.sh" "$@" || status=1
+fi
+if [ "${DG_SKIP_FUZZ:-0}" != "1" ]; then
+  echo "[test] short libFuzzer runs (clang)"
+  bash "$DG_ROOT/scripts/fuzz.sh" || status=1
 fi
 exit $status
