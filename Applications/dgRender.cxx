@@ -3,6 +3,7 @@
 #include <vtkActor.h>
 #include <vtkCamera.h>
 #include <vtkCellData.h>
+#include <vtkCoordinate.h>
 #include <vtkDataArray.h>
 #include <vtkNew.h>
 #include <vtkPNGWriter.h>
@@ -13,6 +14,8 @@
 #include <vtkTextActor.h>
 #include <vtkTextProperty.h>
 #include <vtkWindowToImageFilter.h>
+
+#include <algorithm>
 
 namespace dg
 {
@@ -59,7 +62,9 @@ void AddLabel(vtkRenderer* ren, const char* text)
   label->SetInput(text);
   label->GetTextProperty()->SetFontSize(20);
   label->GetTextProperty()->SetColor(0.1, 0.1, 0.1);
-  label->SetDisplayPosition(12, 12);
+  // Display coordinates would place every panel's label in the first panel.
+  label->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+  label->GetPositionCoordinate()->SetValue(0.03, 0.03);
   ren->AddViewProp(label);
 }
 } // namespace
@@ -74,12 +79,14 @@ bool RenderPicture(vtkPolyData* surface, const char* inputNormals, vtkPolyData* 
   }
   vtkNew<vtkRenderWindow> window;
   window->SetOffScreenRendering(1);
-  window->SetSize(options.Width, options.Height);
+  // Panels sit side by side: each gets a third of the width and a matching height.
+  const int height = options.Panels ? std::max(200, options.Width / 3) : options.Height;
+  window->SetSize(options.Width, height);
   window->SetMultiSamples(4);
   vtkNew<vtkCamera> camera;
   vtkDataArray* input = inputNormals ? surface->GetCellData()->GetArray(inputNormals) : nullptr;
   const bool hasFeatures = features && features->GetNumberOfCells() > 0;
-  const double lineWidth = std::max(2.0, options.Height / 300.0);
+  const double lineWidth = std::max(2.0, height / 300.0);
 
   std::vector<vtkSmartPointer<vtkRenderer>> renderers;
   auto addRenderer = [&](double x0, double x1) {
