@@ -1,0 +1,440 @@
+#include "vtkIINormalEstimator.h"
+
+#include "dgIntegralInvariant.h"
+#include "dgVoxelSelection.h"
+
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkDoubleArray.h>
+#include <vtkExecutive.h>
+#include <vtkFieldData.h>
+#include <vtkImageData.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkIntArray.h>
+#include <vtkMatrix3x3.h>
+#include <vtkNew.h>
+#include <vtkObjectFactory.h>
+#include <vtkPolyData.h>
+#include <vtkSMPTools.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
+#include <vtkUnsignedCharArray.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+vtkStandardNewMacro(vtkIINormalEstimator);
+
+namespace
+{
+bool Close(double a, double b)
+{
+  return std::abs(a - b) <= 1e-9 * std::max({ 1.0, std::abs(a), std::abs(b) });
+}
+
+// The surface's per-surfel arrays as plain int buffers (the surface filter
+// writes vtkIntArray / vtkUnsignedCharArray; a file reader may give others).
+bool ReadSurfels(vtkDataArray* voxels, vtkDataArray* directions, vtkIdType n,
+  std::vector<int>& vox, std::vector<int>& dirs)
+{
+  if (!voxels || !directions || voxels->GetNumberOfComponents() != 3 ||
+    directions->GetNumberOfComponents() != 1 || voxels->GetNumberOfTuples() != n ||
+    directions->GetNumberOfTuples() != n)
+  {
+    return false;
+  }
+  vox.resize(3 * n);
+  dirs.resize(n);
+  auto* intVoxels = vtkIntArray::FastDownCast(voxels);
+  auto* ucharDirections = vtkUnsignedCharArray::FastDownCast(directions);
+  if (intVoxels && ucharDirections)
+  {
+    std::copy(intVoxels->GetPointer(0), intVoxels->GetPointer(0) + 3 * n, vox.data());
+    std::copy(ucharDirections->GetPointer(0), ucharDirections->GetPointer(0) + n, dirs.data());
+    return true;
+  }
+  // Other array types (e.g. read from a file): serial, as the generic
+  // accessors of some arrays are not thread-safe.
+  for (vtkIdType s = 0; s < n; ++s)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      vox[3 * s + a] = static_cast<int>(voxels->GetComponent(s, a));
+    }
+    dirs[s] = static_cast<int>(directions->GetComponent(s, 0));
+  }
+  return true;
+}
+} // namespace
+
+vtkIINormalEstimator::vtkIINormalEstimator()
+{
+  this->SetNumberOfInputPorts(2);
+  this->SetInputArrayToProcess(
+    0, 1, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
+}
+
+void vtkIINormalEstimator::SetSourceConnection(vtkAlgorithmOutput* algOutput)
+{
+  this->SetInputConnection(1, algOutput);
+}
+
+void vtkIINormalEstimator::SetSourceData(vtkDataObject* input)
+{
+  this->SetInputData(1, input);
+}
+
+vtkDataObject* vtkIINormalEstimator::GetSource()
+{
+  if (this->GetNumberOfInputConnections(1) < 1)
+  {
+    return nullptr;
+  }
+  return this->GetExecutive()->GetInputData(1, 0);
+}
+
+int vtkIINormalEstimator::FillInputPortInformation(int port, vtkInformation* info)
+{
+  if (port == 0)
+  {
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+  }
+  else
+  {
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkImageData");
+    // Optional for the pipeline so that a missing image gets our own message.
+    info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+  }
+  return 1;
+}
+
+int vtkIINormalEstimator::RequestUpdateExtent(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  if (!this->Superclass::RequestUpdateExtent(request, inputVector, outputVector))
+  {
+    return 0;
+  }
+  // The balls reach anywhere in the image: ask for all of it (as
+  // vtkProbeFilter does for its source). Without this, an extent requested
+  // for an earlier source would crop a new one.
+  vtkInformation* sourceInfo = inputVector[1]->GetInformationObject(0);
+  if (sourceInfo && sourceInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  {
+    sourceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
+      sourceInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
+    sourceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
+    sourceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+  }
+  return 1;
+}
+
+int vtkIINormalEstimator::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* surface = vtkPolyData::GetData(inputVector[0]);
+  vtkImageData* image = vtkImageData::GetData(inputVector[1]);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector);
+  this->NumberOfTrivialFallbacks = 0;
+  if (!surface || !output)
+  {
+    vtkErrorMacro("Missing input surface.");
+    return 0;
+  }
+  if (!image)
+  {
+    vtkErrorMacro("No source image: give the vtkImageData the surface was extracted from with "
+                  "SetSourceConnection or SetSourceData (input port 1).");
+    return 0;
+  }
+  if (!(this->Radius > 0) || !std::isfinite(this->Radius))
+  {
+    vtkErrorMacro("Radius must be positive and finite (it is " << this->Radius << ").");
+    return 0;
+  }
+
+  // 1. The surface must come from this image.
+  vtkFieldData* fd = surface->GetFieldData();
+  vtkDataArray* extArray = fd ? fd->GetArray("ImageExtent") : nullptr;
+  vtkDataArray* originArray = fd ? fd->GetArray("ImageOrigin") : nullptr;
+  vtkDataArray* spacingArray = fd ? fd->GetArray("ImageSpacing") : nullptr;
+  const vtkIdType nSurfels = surface->GetNumberOfCells();
+  std::vector<int> vox, dirs;
+  if (!extArray || !originArray || !spacingArray || extArray->GetNumberOfValues() != 6 ||
+    originArray->GetNumberOfValues() != 3 || spacingArray->GetNumberOfValues() != 3 ||
+    !ReadSurfels(surface->GetCellData()->GetArray("InsideVoxel"),
+      surface->GetCellData()->GetArray("SurfelDirection"), nSurfels, vox, dirs))
+  {
+    vtkErrorMacro("Input 0 is not a digital surface: it needs the cell arrays 'InsideVoxel' (3 "
+                  "components) and 'SurfelDirection' and the field data 'ImageExtent', "
+                  "'ImageOrigin', 'ImageSpacing' written by vtkDigitalSurfaceFilter.");
+    return 0;
+  }
+  int ext[6];
+  image->GetExtent(ext);
+  double origin[3], spacing[3];
+  image->GetOrigin(origin);
+  image->GetSpacing(spacing);
+  {
+    bool same = true;
+    for (int a = 0; a < 6; ++a)
+    {
+      same &= static_cast<int>(extArray->GetComponent(a, 0)) == ext[a];
+    }
+    for (int a = 0; a < 3; ++a)
+    {
+      same &= Close(originArray->GetComponent(a, 0), origin[a]);
+      same &= Close(spacingArray->GetComponent(a, 0), spacing[a]);
+    }
+    if (!same)
+    {
+      auto e = [&](int a) { return static_cast<int>(extArray->GetComponent(a, 0)); };
+      vtkErrorMacro("The source image does not match the surface: image extent "
+        << ext[0] << ".." << ext[1] << ", " << ext[2] << ".." << ext[3] << ", " << ext[4] << ".."
+        << ext[5] << ", origin (" << origin[0] << ", " << origin[1] << ", " << origin[2]
+        << "), spacing (" << spacing[0] << ", " << spacing[1] << ", " << spacing[2]
+        << "); the surface was extracted from extent " << e(0) << ".." << e(1) << ", " << e(2)
+        << ".." << e(3) << ", " << e(4) << ".." << e(5) << ", origin ("
+        << originArray->GetComponent(0, 0) << ", " << originArray->GetComponent(1, 0) << ", "
+        << originArray->GetComponent(2, 0) << "), spacing (" << spacingArray->GetComponent(0, 0)
+        << ", " << spacingArray->GetComponent(1, 0) << ", " << spacingArray->GetComponent(2, 0)
+        << ").");
+      return 0;
+    }
+  }
+  const int dims[3] = { ext[1] - ext[0] + 1, ext[3] - ext[2] + 1, ext[5] - ext[4] + 1 };
+  if (dims[0] <= 0 || dims[1] <= 0 || dims[2] <= 0)
+  {
+    vtkErrorMacro("The source image is empty.");
+    return 0;
+  }
+
+  // 2. Radius in voxels.
+  const bool isotropic = Close(std::abs(spacing[0]), std::abs(spacing[1])) &&
+    Close(std::abs(spacing[0]), std::abs(spacing[2]));
+  double radius = this->Radius;
+  if (this->RadiusUnits == WORLD)
+  {
+    if (!isotropic)
+    {
+      vtkErrorMacro("Radius in world units needs an isotropic spacing (the image has "
+        << spacing[0] << ", " << spacing[1] << ", " << spacing[2]
+        << "); give the radius in voxels instead.");
+      return 0;
+    }
+    radius /= std::abs(spacing[0]);
+  }
+  if (this->ComputeCurvatures && !isotropic)
+  {
+    vtkErrorMacro("Curvatures need an isotropic spacing (the image has "
+      << spacing[0] << ", " << spacing[1] << ", " << spacing[2] << ").");
+    return 0;
+  }
+  const int maxDim = std::max({ dims[0], dims[1], dims[2] });
+  if (radius > maxDim)
+  {
+    vtkErrorMacro("Radius " << radius << " voxels is larger than the image (" << dims[0] << " x "
+                            << dims[1] << " x " << dims[2] << " voxels).");
+    return 0;
+  }
+
+  // 3. Inside voxels as runs along x; the byte mask lives only until then.
+  dg::IntegralInvariantKernel kernel;
+  {
+    vtkDataArray* scalars = dg::SelectionArray(this->GetInputArrayToProcess(0, inputVector),
+      this->GetInputArrayInformation(0), image);
+    dg::VoxelSelection select;
+    select.Mode = this->SelectionMode;
+    select.Lower = this->LowerThreshold;
+    select.Upper = this->UpperThreshold;
+    select.LabelValue = this->Label;
+    select.Component = this->SelectedComponent;
+    std::vector<std::uint8_t> mask(static_cast<std::size_t>(dims[0]) * dims[1] * dims[2]);
+    std::int64_t insideCount = 0;
+    std::string error;
+    if (!dg::SelectVoxels(scalars, dims, select, mask.data(), dims[0], 0, insideCount, error))
+    {
+      vtkErrorMacro("Cannot select voxels in the source image: " << error << ".");
+      return 0;
+    }
+    kernel.SetVolume(mask.data(), dims, dims[0], 0);
+  }
+  kernel.SetRadius(radius);
+  this->UpdateProgress(0.1);
+  if (this->GetAbortExecute())
+  {
+    return 0;
+  }
+
+  // 4. Grid to world: tangents go through M = direction * diag(spacing),
+  // normals through M^-T.
+  double M[9], Minv[9];
+  {
+    const double* d = image->GetDirectionMatrix()->GetData();
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c)
+      {
+        M[3 * r + c] = d[3 * r + c] * spacing[c];
+      }
+    vtkMatrix3x3::Invert(M, Minv);
+  }
+  const double curvatureScale = 1.0 / std::abs(spacing[0]);
+
+  const bool curv = this->ComputeCurvatures;
+  vtkNew<vtkDoubleArray> normals;
+  normals->SetName("IINormals");
+  normals->SetNumberOfComponents(3);
+  normals->SetNumberOfTuples(nSurfels);
+  vtkNew<vtkDoubleArray> mean, gauss, k1, k2, dir1, dir2;
+  if (curv)
+  {
+    mean->SetName("IIMeanCurvature");
+    gauss->SetName("IIGaussianCurvature");
+    k1->SetName("IIK1");
+    k2->SetName("IIK2");
+    dir1->SetName("IIK1Direction");
+    dir2->SetName("IIK2Direction");
+    dir1->SetNumberOfComponents(3);
+    dir2->SetNumberOfComponents(3);
+    for (vtkDoubleArray* a : { mean.Get(), gauss.Get(), k1.Get(), k2.Get(), dir1.Get(), dir2.Get() })
+    {
+      a->SetNumberOfTuples(nSurfels);
+    }
+  }
+  double* nrm = normals->GetPointer(0);
+  double* pm = curv ? mean->GetPointer(0) : nullptr;
+  double* pg = curv ? gauss->GetPointer(0) : nullptr;
+  double* p1 = curv ? k1->GetPointer(0) : nullptr;
+  double* p2 = curv ? k2->GetPointer(0) : nullptr;
+  double* pd1 = curv ? dir1->GetPointer(0) : nullptr;
+  double* pd2 = curv ? dir2->GetPointer(0) : nullptr;
+
+  const auto reference = static_cast<dg::IICurvatureReference>(this->CurvatureReference);
+  std::atomic<vtkIdType> fallbacks(0), badSurfel(-1), notSelected(-1);
+  const dg::RowRuns& runs = kernel.GetRuns();
+  auto work = [&](vtkIdType b, vtkIdType e) {
+    vtkIdType localFallbacks = 0;
+    for (vtkIdType s = b; s < e; ++s)
+    {
+      const int i = vox[3 * s] - ext[0], j = vox[3 * s + 1] - ext[2], k = vox[3 * s + 2] - ext[4];
+      const int d = dirs[s];
+      if (d < 0 || d > 5 || i < 0 || j < 0 || k < 0 || i >= dims[0] || j >= dims[1] ||
+        k >= dims[2])
+      {
+        badSurfel = s;
+        continue;
+      }
+      int o[3] = { i, j, k };
+      o[d / 2] += (d & 1) ? 1 : -1;
+      if (!runs.Inside(i, j, k) || runs.Inside(o[0], o[1], o[2]))
+      {
+        notSelected = s;
+        continue;
+      }
+      dg::IIEstimate est;
+      dg::EstimateFromMoments(kernel.Moments(i, j, k, d), d, radius, curv, est,
+        reference, &kernel.GetBall(d / 2));
+      localFallbacks += est.TrivialFallback;
+      double w[3], len = 0;
+      for (int r = 0; r < 3; ++r)
+      {
+        // Row r of M^-T is column r of M^-1.
+        w[r] = Minv[r] * est.Normal[0] + Minv[3 + r] * est.Normal[1] + Minv[6 + r] * est.Normal[2];
+        len += w[r] * w[r];
+      }
+      len = std::sqrt(len);
+      for (int r = 0; r < 3; ++r)
+      {
+        nrm[3 * s + r] = w[r] / len;
+      }
+      if (curv)
+      {
+        pm[s] = est.Mean * curvatureScale;
+        p1[s] = est.K1 * curvatureScale;
+        p2[s] = est.K2 * curvatureScale;
+        pg[s] = est.Gaussian * curvatureScale * curvatureScale;
+        const double* src[2] = { est.Direction1, est.Direction2 };
+        double* dst[2] = { pd1 + 3 * s, pd2 + 3 * s };
+        for (int t = 0; t < 2; ++t)
+        {
+          double v[3], l = 0;
+          for (int r = 0; r < 3; ++r)
+          {
+            v[r] = M[3 * r] * src[t][0] + M[3 * r + 1] * src[t][1] + M[3 * r + 2] * src[t][2];
+            l += v[r] * v[r];
+          }
+          l = std::sqrt(l);
+          for (int r = 0; r < 3; ++r)
+          {
+            dst[t][r] = v[r] / l;
+          }
+        }
+      }
+    }
+    fallbacks += localFallbacks;
+  };
+  // Blocks of surfels so that progress is reported and abort honoured from
+  // the calling thread; each surfel's result is independent of the others.
+  const vtkIdType blocks = std::max<vtkIdType>(1, std::min<vtkIdType>(20, nSurfels / 10000));
+  for (vtkIdType blk = 0; blk < blocks; ++blk)
+  {
+    vtkSMPTools::For(nSurfels * blk / blocks, nSurfels * (blk + 1) / blocks, work);
+    this->UpdateProgress(0.1 + 0.9 * (blk + 1) / blocks);
+    if (this->GetAbortExecute())
+    {
+      return 0;
+    }
+  }
+  if (badSurfel >= 0)
+  {
+    vtkErrorMacro("Surfel " << badSurfel.load()
+                            << " has an inside voxel outside the image extent or a direction "
+                               "outside 0..5: the surface does not belong to this image.");
+    return 0;
+  }
+  if (notSelected >= 0)
+  {
+    const vtkIdType s = notSelected;
+    vtkErrorMacro("Surfel " << s << " (voxel " << vox[3 * s] << ", " << vox[3 * s + 1] << ", "
+                            << vox[3 * s + 2] << ", direction " << dirs[s]
+                            << ") does not separate an inside voxel from an outside one under "
+                               "this filter's selection: set the same selection (SelectionMode, "
+                               "thresholds, Label, array) as on vtkDigitalSurfaceFilter.");
+    return 0;
+  }
+  this->NumberOfTrivialFallbacks = fallbacks;
+
+  output->ShallowCopy(surface);
+  // SetNormals would delete the current normals array (the trivial
+  // "Normals"): demote it to an ordinary array first, it stays useful.
+  output->GetCellData()->SetActiveAttribute(-1, vtkDataSetAttributes::NORMALS);
+  output->GetCellData()->SetNormals(normals);
+  if (curv)
+  {
+    for (vtkDoubleArray* a : { mean.Get(), gauss.Get(), k1.Get(), k2.Get(), dir1.Get(), dir2.Get() })
+    {
+      output->GetCellData()->AddArray(a);
+    }
+  }
+  return 1;
+}
+
+void vtkIINormalEstimator::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  const char* modes[] = { "NonZero", "Range", "Label" };
+  os << indent << "Radius: " << this->Radius << "\n";
+  os << indent << "RadiusUnits: " << (this->RadiusUnits == WORLD ? "World" : "Voxels") << "\n";
+  os << indent << "ComputeCurvatures: " << (this->ComputeCurvatures ? "On" : "Off") << "\n";
+  const char* references[] = { "Continuous", "DigitalBall", "DigitalTangentPlane" };
+  os << indent << "CurvatureReference: " << references[this->CurvatureReference] << "\n";
+  os << indent << "SelectionMode: " << modes[this->SelectionMode] << "\n";
+  os << indent << "LowerThreshold: " << this->LowerThreshold << "\n";
+  os << indent << "UpperThreshold: " << this->UpperThreshold << "\n";
+  os << indent << "Label: " << this->Label << "\n";
+  os << indent << "SelectedComponent: " << this->SelectedComponent << "\n";
+  os << indent << "NumberOfTrivialFallbacks: " << this->NumberOfTrivialFallbacks << "\n";
+}
