@@ -12,12 +12,20 @@
 // order (counter-clockwise seen from outside for the digital surface), which
 // gives the sign of B. Non-manifold edges (shared by 3+ faces) and boundary
 // edges (1 face) are kept: the operators stay well defined.
+//
+// *choice* On a boundary edge, (B u)_e = +-u(f) compares u with an implicit
+// zero outside the surface, which would mark every boundary of an open mesh
+// as a discontinuity wherever u != 0. The AT systems and energy therefore
+// leave boundary edges out of the jump term |diag(Mv) B u|^2 (a free,
+// Neumann-like boundary); MatrixB() itself keeps them, as MATH.md defines
+// it. Closed surfaces (every digital surface) are not affected.
 #ifndef dgATOperators_h
 #define dgATOperators_h
 
 #include <Eigen/Sparse>
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace dg

@@ -1,0 +1,739 @@
+#include "dgATSolver.h"
+
+#include <vtkSMPTools.h>
+
+#include <Eigen/SparseCholesky>
+#ifdef DG_HAVE_CHOLMOD
+#include <Eigen/CholmodSupport>
+#endif
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+namespace dg
+{
+namespace
+{
+// Fixed-size blocks: parallel loops and reductions are split the same way
+// whatever the number of threads, and partial sums are added in block order,
+// so every result is bitwise reproducible.
+constexpr std::int64_t BlockSize = 2048;
+
+template <class Body>
+void ForBlocks(std::int64_t n, const Body& body)
+{
+  const std::int64_t nb = (n + BlockSize - 1) / BlockSize;
+  // Tasks of at least ~32k rows: below that, waking threads costs more than
+  // the work (CG makes three such loops per iteration).
+  vtkSMPTools::For(0, nb, 16, [&](std::int64_t b0, std::int64_t b1) {
+    for (std::int64_t b = b0; b < b1; ++b)
+    {
+      body(b, b * BlockSize, std::min(n, (b + 1) * BlockSize));
+    }
+  });
+}
+
+std::int64_t NumberOfBlocks(std::int64_t n)
+{
+  return (n + BlockSize - 1) / BlockSize;
+}
+
+// Sums `count` values per block, block by block in order.
+void ReduceBlocks(const std::vector<double>& partial, std::int64_t nb, int count, double* out)
+{
+  for (int c = 0; c < count; ++c)
+  {
+    out[c] = 0.0;
+  }
+  for (std::int64_t b = 0; b < nb; ++b)
+  {
+    for (int c = 0; c < count; ++c)
+    {
+      out[c] += partial[b * count + c];
+    }
+  }
+}
+
+using Clock = std::chrono::steady_clock;
+double Seconds(Clock::time_point t0)
+{
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+} // namespace
+
+// One linear system whose pattern never changes: Analyze once, then
+// Factorize + Solve at each step with new values.
+class ATLinearSystem
+{
+public:
+  virtual ~ATLinearSystem() = default;
+  virtual bool Analyze(const ATSystemMatrix&) { return true; }
+  virtual bool Factorize(const ATSystemMatrix&) = 0;
+  /// x holds the previous solution on entry (a warm start for iterative
+  /// solvers) and the new one on success.
+  virtual bool Solve(const ATSystemMatrix& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& x) = 0;
+  bool Analyzed = false;
+  std::int64_t Iterations = 0;
+};
+
+namespace
+{
+template <class Factor>
+class DirectSystem : public ATLinearSystem
+{
+public:
+  bool Analyze(const ATSystemMatrix& m) override
+  {
+    this->F.analyzePattern(m);
+    return this->F.info() == Eigen::Success;
+  }
+  bool Factorize(const ATSystemMatrix& m) override
+  {
+    this->F.factorize(m);
+    return this->F.info() == Eigen::Success;
+  }
+  bool Solve(const ATSystemMatrix&, const Eigen::MatrixXd& b, Eigen::MatrixXd& x) override
+  {
+    Eigen::MatrixXd y = this->F.solve(b);
+    if (this->F.info() != Eigen::Success || !y.allFinite())
+    {
+      return false;
+    }
+    x = std::move(y);
+    return true;
+  }
+
+private:
+  Factor F;
+};
+
+// Jacobi-preconditioned conjugate gradients on all columns at once: one sweep
+// over the matrix serves every right-hand side. The matrix is symmetric and
+// stored full, so column i is row i.
+class CGSystem : public ATLinearSystem
+{
+public:
+  CGSystem(double tolerance, int maxIterations)
+    : Tolerance(tolerance)
+    , MaxIterations(maxIterations)
+  {
+  }
+  bool Factorize(const ATSystemMatrix& m) override
+  {
+    const std::int64_t n = m.cols();
+    this->InvDiag.resize(n);
+    bool ok = true;
+    const int* outer = m.outerIndexPtr();
+    const int* inner = m.innerIndexPtr();
+    const double* val = m.valuePtr();
+    for (std::int64_t i = 0; i < n; ++i)
+    {
+      double d = 0;
+      for (int k = outer[i]; k < outer[i + 1]; ++k)
+      {
+        d += inner[k] == i ? val[k] : 0.0;
+      }
+      ok = ok && d > 0;
+      this->InvDiag[i] = d > 0 ? 1.0 / d : 1.0;
+    }
+    return ok;
+  }
+
+  bool Solve(const ATSystemMatrix& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& x) override
+  {
+    switch (b.cols())
+    {
+      case 1:
+        return this->SolveN<1>(m, b, x, 1);
+      case 3:
+        return this->SolveN<3>(m, b, x, 3);
+      default:
+        return this->SolveN<0>(m, b, x, static_cast<int>(b.cols()));
+    }
+  }
+
+  // The vectors are stored interleaved (row i, column c at i * nc + c) so
+  // that one read of a matrix row serves every column. NC > 0 fixes the
+  // number of columns at compile time (1 for v, 3 for normals).
+  template <int NC>
+  bool SolveN(const ATSystemMatrix& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& xOut, int ncRun)
+  {
+    const int nc = NC > 0 ? NC : ncRun;
+    const std::int64_t n = m.cols();
+    if (xOut.rows() != n || xOut.cols() != nc)
+    {
+      xOut = Eigen::MatrixXd::Zero(n, nc);
+    }
+    const int* outer = m.outerIndexPtr();
+    const int* inner = m.innerIndexPtr();
+    const double* val = m.valuePtr();
+    const double* dinv = this->InvDiag.data();
+    std::vector<double> x(n * nc), bi(n * nc), r(n * nc), z(n * nc), p(n * nc), q(n * nc);
+    for (int c = 0; c < nc; ++c)
+    {
+      for (std::int64_t i = 0; i < n; ++i)
+      {
+        x[i * nc + c] = xOut(i, c);
+        bi[i * nc + c] = b(i, c);
+      }
+    }
+    const std::int64_t nb = NumberOfBlocks(n);
+    std::vector<double> partial(nb * 3 * nc);
+    std::vector<double> sums(3 * nc);
+    std::vector<double> rz(nc), bb(nc), alpha(nc, 0.0), beta(nc, 0.0);
+    std::vector<char> active(nc, 1);
+    // y_i = sum_k a_ik w_k for all columns, in registers when NC is fixed.
+    auto rowProduct = [&](std::int64_t i, const double* w, double* y) {
+      for (int c = 0; c < nc; ++c)
+      {
+        y[c] = 0.0;
+      }
+      for (int k = outer[i]; k < outer[i + 1]; ++k)
+      {
+        const double a = val[k];
+        const double* wk = w + static_cast<std::int64_t>(inner[k]) * nc;
+        for (int c = 0; c < nc; ++c)
+        {
+          y[c] += a * wk[c];
+        }
+      }
+    };
+
+    // r = b - A x, z = D^-1 r, p = z; sums of r.z, b.b, r.r.
+    ForBlocks(n, [&](std::int64_t blk, std::int64_t i0, std::int64_t i1) {
+      double acc[3 * (NC > 0 ? NC : 16)] = {};
+      std::vector<double> accDyn(NC > 0 ? 0 : 3 * nc, 0.0), y(nc);
+      double* s = NC > 0 ? acc : accDyn.data();
+      for (std::int64_t i = i0; i < i1; ++i)
+      {
+        rowProduct(i, x.data(), y.data());
+        for (int c = 0; c < nc; ++c)
+        {
+          const std::int64_t ic = i * nc + c;
+          const double ri = bi[ic] - y[c], zi = dinv[i] * ri;
+          r[ic] = ri;
+          z[ic] = zi;
+          p[ic] = zi;
+          s[3 * c] += ri * zi;
+          s[3 * c + 1] += bi[ic] * bi[ic];
+          s[3 * c + 2] += ri * ri;
+        }
+      }
+      std::copy(s, s + 3 * nc, partial.data() + blk * 3 * nc);
+    });
+    ReduceBlocks(partial, nb, 3 * nc, sums.data());
+    int nActive = 0;
+    for (int c = 0; c < nc; ++c)
+    {
+      rz[c] = sums[3 * c];
+      bb[c] = sums[3 * c + 1];
+      active[c] = sums[3 * c + 2] > this->Tolerance * this->Tolerance * bb[c];
+      nActive += active[c];
+    }
+    int it = 0;
+    while (nActive > 0 && it < this->MaxIterations)
+    {
+      ++it;
+      // q = A p and p.q (converged columns are computed but not used).
+      ForBlocks(n, [&](std::int64_t blk, std::int64_t i0, std::int64_t i1) {
+        double acc[NC > 0 ? NC : 16] = {};
+        std::vector<double> accDyn(NC > 0 ? 0 : nc, 0.0);
+        double* s = NC > 0 ? acc : accDyn.data();
+        for (std::int64_t i = i0; i < i1; ++i)
+        {
+          double* qi = q.data() + i * nc;
+          rowProduct(i, p.data(), qi);
+          for (int c = 0; c < nc; ++c)
+          {
+            s[c] += p[i * nc + c] * qi[c];
+          }
+        }
+        std::copy(s, s + nc, partial.data() + blk * nc);
+      });
+      ReduceBlocks(partial, nb, nc, sums.data());
+      for (int c = 0; c < nc; ++c)
+      {
+        if (active[c] && !(sums[c] > 0))
+        {
+          return false; // not positive definite (or NaN)
+        }
+        alpha[c] = active[c] ? rz[c] / sums[c] : 0.0;
+      }
+      // x += alpha p, r -= alpha q, z = D^-1 r; sums of r.z and r.r.
+      ForBlocks(n, [&](std::int64_t blk, std::int64_t i0, std::int64_t i1) {
+        double acc[2 * (NC > 0 ? NC : 16)] = {};
+        std::vector<double> accDyn(NC > 0 ? 0 : 2 * nc, 0.0);
+        double* s = NC > 0 ? acc : accDyn.data();
+        for (std::int64_t i = i0; i < i1; ++i)
+        {
+          for (int c = 0; c < nc; ++c)
+          {
+            const std::int64_t ic = i * nc + c;
+            x[ic] += alpha[c] * p[ic];
+            const double ri = r[ic] - alpha[c] * q[ic];
+            r[ic] = ri;
+            const double zi = dinv[i] * ri;
+            z[ic] = zi;
+            s[2 * c] += ri * zi;
+            s[2 * c + 1] += ri * ri;
+          }
+        }
+        std::copy(s, s + 2 * nc, partial.data() + blk * 2 * nc);
+      });
+      ReduceBlocks(partial, nb, 2 * nc, sums.data());
+      nActive = 0;
+      for (int c = 0; c < nc; ++c)
+      {
+        if (!active[c])
+        {
+          continue;
+        }
+        beta[c] = sums[2 * c] / rz[c];
+        rz[c] = sums[2 * c];
+        active[c] = sums[2 * c + 1] > this->Tolerance * this->Tolerance * bb[c];
+        nActive += active[c];
+      }
+      if (nActive == 0)
+      {
+        break;
+      }
+      // p = z + beta p.
+      ForBlocks(n, [&](std::int64_t, std::int64_t i0, std::int64_t i1) {
+        for (std::int64_t i = i0; i < i1; ++i)
+        {
+          for (int c = 0; c < nc; ++c)
+          {
+            const std::int64_t ic = i * nc + c;
+            p[ic] = active[c] ? z[ic] + beta[c] * p[ic] : p[ic];
+          }
+        }
+      });
+    }
+    this->Iterations += it;
+    for (int c = 0; c < nc; ++c)
+    {
+      for (std::int64_t i = 0; i < n; ++i)
+      {
+        xOut(i, c) = x[i * nc + c];
+      }
+    }
+    return nActive == 0 && xOut.allFinite();
+  }
+
+private:
+  double Tolerance;
+  int MaxIterations;
+  Eigen::VectorXd InvDiag;
+};
+
+std::unique_ptr<ATLinearSystem> MakeSystem(const ATParameters& p)
+{
+  switch (p.Solver)
+  {
+    case ATLinearSolver::SimplicialLDLT:
+      return std::unique_ptr<ATLinearSystem>(new DirectSystem<
+        Eigen::SimplicialLDLT<ATSystemMatrix, Eigen::Lower, Eigen::AMDOrdering<int>>>());
+    case ATLinearSolver::Cholmod:
+#ifdef DG_HAVE_CHOLMOD
+      return std::unique_ptr<ATLinearSystem>(
+        new DirectSystem<Eigen::CholmodSupernodalLLT<ATSystemMatrix, Eigen::Lower>>());
+#else
+      return nullptr;
+#endif
+    case ATLinearSolver::ConjugateGradient:
+    default:
+      return std::unique_ptr<ATLinearSystem>(
+        new CGSystem(p.CGTolerance, p.CGMaximumIterations));
+  }
+}
+} // namespace
+
+bool CholmodAvailable()
+{
+#ifdef DG_HAVE_CHOLMOD
+  return true;
+#else
+  return false;
+#endif
+}
+
+const char* ATLinearSolverName(ATLinearSolver s)
+{
+  switch (s)
+  {
+    case ATLinearSolver::SimplicialLDLT:
+      return "SimplicialLDLT";
+    case ATLinearSolver::Cholmod:
+      return "Cholmod";
+    case ATLinearSolver::ConjugateGradient:
+    default:
+      return "ConjugateGradient";
+  }
+}
+
+std::string ATParameters::Check() const
+{
+  std::ostringstream s;
+  // Written as !(x > 0) so that NaN is rejected too.
+  if (!(this->Alpha > 0))
+  {
+    s << "Alpha must be > 0 (got " << this->Alpha << "). ";
+  }
+  if (!(this->Lambda > 0))
+  {
+    s << "Lambda must be > 0 (got " << this->Lambda << "). ";
+  }
+  if (!(this->EpsilonEnd > 0))
+  {
+    s << "EpsilonEnd must be > 0 (got " << this->EpsilonEnd << "). ";
+  }
+  if (!(this->EpsilonStart >= this->EpsilonEnd) || !std::isfinite(this->EpsilonStart))
+  {
+    s << "EpsilonStart (" << this->EpsilonStart << ") must be finite and >= EpsilonEnd ("
+      << this->EpsilonEnd << "). ";
+  }
+  if (!(this->EpsilonRatio > 1))
+  {
+    s << "EpsilonRatio must be > 1 (got " << this->EpsilonRatio << "). ";
+  }
+  if (this->MaximumIterations < 1)
+  {
+    s << "MaximumIterations must be >= 1 (got " << this->MaximumIterations << "). ";
+  }
+  if (!(this->Tolerance >= 0))
+  {
+    s << "Tolerance must be >= 0 (got " << this->Tolerance << "). ";
+  }
+  if (!(this->CGTolerance > 0) || this->CGMaximumIterations < 1)
+  {
+    s << "CGTolerance must be > 0 and CGMaximumIterations >= 1. ";
+  }
+  std::string r = s.str();
+  if (!r.empty())
+  {
+    r.pop_back();
+  }
+  return r;
+}
+
+ATSolver::ATSolver(const ATComplex& complex, const ATParameters& parameters)
+  : Complex(complex)
+  , Params(parameters)
+  , UM(complex.UPattern)
+  , VM(complex.VPattern)
+{
+}
+
+ATSolver::~ATSolver() = default;
+
+void ATSolver::Initialize(const Eigen::MatrixXd& field)
+{
+  this->g = field;
+  this->u = field;
+  this->v = Eigen::VectorXd::Ones(this->Complex.NumberOfVertices());
+}
+
+void ATSolver::AssembleU()
+{
+  const ATComplex& K = this->Complex;
+  const std::int64_t ne = K.NumberOfEdges(), nf = K.NumberOfFaces();
+  // w(e) = ((M v)_e)^2, the weight of edge e in B^T diag(Mv)^2 B.
+  std::vector<double> w(ne);
+  ForBlocks(ne, [&](std::int64_t, std::int64_t e0, std::int64_t e1) {
+    for (std::int64_t e = e0; e < e1; ++e)
+    {
+      const double m = 0.5 * (this->v[K.EdgeVertices[2 * e]] + this->v[K.EdgeVertices[2 * e + 1]]);
+      w[e] = m * m;
+    }
+  });
+  const int* outer = this->UM.outerIndexPtr();
+  double* val = this->UM.valuePtr();
+  const double alpha = this->Params.Alpha;
+  ForBlocks(nf, [&](std::int64_t, std::int64_t f0, std::int64_t f1) {
+    for (std::int64_t f = f0; f < f1; ++f)
+    {
+      for (int k = outer[f]; k < outer[f + 1]; ++k)
+      {
+        double s = 0;
+        for (std::int64_t j = K.UContribPtr[k]; j < K.UContribPtr[k + 1]; ++j)
+        {
+          s += K.UContribCoef[j] * w[K.UContribEdge[j]];
+        }
+        val[k] = s;
+      }
+      val[K.UDiagonal[f]] += alpha;
+    }
+  });
+}
+
+void ATSolver::AssembleV(double epsilon)
+{
+  const ATComplex& K = this->Complex;
+  const std::int64_t ne = K.NumberOfEdges(), nv = K.NumberOfVertices();
+  const int nc = static_cast<int>(this->u.cols());
+  // q(e) = sum_i ((B u_i)_e)^2: the squared jump of u across edge e.
+  std::vector<double> q(ne);
+  ForBlocks(ne, [&](std::int64_t, std::int64_t e0, std::int64_t e1) {
+    for (std::int64_t e = e0; e < e1; ++e)
+    {
+      double s = 0;
+      // Boundary edges carry no jump (dgATOperators.h).
+      for (int c = 0; c < nc && K.EdgeFacePtr[e + 1] - K.EdgeFacePtr[e] > 1; ++c)
+      {
+        double d = 0;
+        for (std::int64_t i = K.EdgeFacePtr[e]; i < K.EdgeFacePtr[e + 1]; ++i)
+        {
+          d += K.EdgeFaceSigns[i] * this->u(K.EdgeFaces[i], c);
+        }
+        s += d * d;
+      }
+      q[e] = s;
+    }
+  });
+  const double lambda = this->Params.Lambda;
+  const double diagConst = lambda / (4 * epsilon), lapl = lambda * epsilon;
+  const int* outer = this->VM.outerIndexPtr();
+  double* val = this->VM.valuePtr();
+  ForBlocks(nv, [&](std::int64_t, std::int64_t a0, std::int64_t a1) {
+    for (std::int64_t a = a0; a < a1; ++a)
+    {
+      for (int k = outer[a]; k < outer[a + 1]; ++k)
+      {
+        const int e = K.VEdge[k];
+        if (e >= 0)
+        {
+          val[k] = -lapl + 0.25 * q[e];
+        }
+        else
+        {
+          double s = 0;
+          for (std::int64_t j = K.VertexEdgePtr[a]; j < K.VertexEdgePtr[a + 1]; ++j)
+          {
+            s += q[K.VertexEdges[j]];
+          }
+          val[k] = diagConst + lapl * (K.VertexEdgePtr[a + 1] - K.VertexEdgePtr[a]) + 0.25 * s;
+        }
+      }
+    }
+  });
+}
+
+bool ATSolver::SolveSystem(ATLinearSystem& system, const ATSystemMatrix& m,
+  const Eigen::MatrixXd& b, Eigen::MatrixXd& x, const char* name)
+{
+  auto t0 = Clock::now();
+  if (!system.Analyzed)
+  {
+    system.Analyzed = system.Analyze(m);
+    this->Stats.Analysis += Seconds(t0);
+    if (!system.Analyzed)
+    {
+      this->WarningList.push_back(std::string("symbolic analysis of the ") + name + " failed");
+      ++this->Stats.FailedSolves;
+      return false;
+    }
+    t0 = Clock::now();
+  }
+  const bool factored = system.Factorize(m);
+  this->Stats.Factorization += Seconds(t0);
+  t0 = Clock::now();
+  const std::int64_t it0 = system.Iterations;
+  Eigen::MatrixXd y = x;
+  const bool solved = factored && system.Solve(m, b, y);
+  this->Stats.Solve += Seconds(t0);
+  this->Stats.CGIterations += system.Iterations - it0;
+  if (!solved)
+  {
+    std::ostringstream s;
+    s << "the " << name << " linear solve failed ("
+      << (factored ? "no convergence or non-finite result" : "factorisation failed")
+      << "); the previous values are kept";
+    this->WarningList.push_back(s.str());
+    ++this->Stats.FailedSolves;
+    return false;
+  }
+  x = std::move(y);
+  return true;
+}
+
+bool ATSolver::StepU()
+{
+  if (!this->USystem)
+  {
+    this->USystem = MakeSystem(this->Params);
+  }
+  auto t0 = Clock::now();
+  this->AssembleU();
+  this->Stats.Assembly += Seconds(t0);
+  const Eigen::MatrixXd rhs = this->Params.Alpha * this->g;
+  const std::int64_t it0 = this->Stats.CGIterations;
+  const bool ok = this->SolveSystem(*this->USystem, this->UM, rhs, this->u, "u-step");
+  this->Stats.CGIterationsU += this->Stats.CGIterations - it0;
+  return ok;
+}
+
+bool ATSolver::StepV(double epsilon)
+{
+  if (!this->VSystem)
+  {
+    this->VSystem = MakeSystem(this->Params);
+  }
+  auto t0 = Clock::now();
+  this->AssembleV(epsilon);
+  this->Stats.Assembly += Seconds(t0);
+  const Eigen::MatrixXd rhs =
+    Eigen::MatrixXd::Constant(this->v.size(), 1, this->Params.Lambda / (4 * epsilon));
+  Eigen::MatrixXd x = this->v;
+  const bool ok = this->SolveSystem(*this->VSystem, this->VM, rhs, x, "v-step");
+  if (ok)
+  {
+    this->v = x.col(0);
+  }
+  return ok;
+}
+
+double ATSolver::Energy(double epsilon) const
+{
+  const ATComplex& K = this->Complex;
+  const std::int64_t nf = K.NumberOfFaces(), ne = K.NumberOfEdges(), nv = K.NumberOfVertices();
+  const int nc = static_cast<int>(this->u.cols());
+  const double lambda = this->Params.Lambda;
+  double total = 0;
+  {
+    const std::int64_t nb = NumberOfBlocks(nf);
+    std::vector<double> part(nb);
+    ForBlocks(nf, [&](std::int64_t b, std::int64_t f0, std::int64_t f1) {
+      double s = 0;
+      for (std::int64_t f = f0; f < f1; ++f)
+      {
+        s += (this->u.row(f) - this->g.row(f)).squaredNorm();
+      }
+      part[b] = s;
+    });
+    double s;
+    ReduceBlocks(part, nb, 1, &s);
+    total += this->Params.Alpha * s;
+  }
+  {
+    const std::int64_t nb = NumberOfBlocks(ne);
+    std::vector<double> part(nb);
+    ForBlocks(ne, [&](std::int64_t b, std::int64_t e0, std::int64_t e1) {
+      double s = 0;
+      for (std::int64_t e = e0; e < e1; ++e)
+      {
+        const double va = this->v[K.EdgeVertices[2 * e]], vb = this->v[K.EdgeVertices[2 * e + 1]];
+        const double m = 0.5 * (va + vb);
+        for (int c = 0; c < nc && K.EdgeFacePtr[e + 1] - K.EdgeFacePtr[e] > 1; ++c)
+        {
+          double d = 0;
+          for (std::int64_t i = K.EdgeFacePtr[e]; i < K.EdgeFacePtr[e + 1]; ++i)
+          {
+            d += K.EdgeFaceSigns[i] * this->u(K.EdgeFaces[i], c);
+          }
+          s += m * m * d * d;
+        }
+        s += lambda * epsilon * (vb - va) * (vb - va);
+      }
+      part[b] = s;
+    });
+    double s;
+    ReduceBlocks(part, nb, 1, &s);
+    total += s;
+  }
+  {
+    const std::int64_t nb = NumberOfBlocks(nv);
+    std::vector<double> part(nb);
+    ForBlocks(nv, [&](std::int64_t b, std::int64_t a0, std::int64_t a1) {
+      double s = 0;
+      for (std::int64_t a = a0; a < a1; ++a)
+      {
+        s += (1 - this->v[a]) * (1 - this->v[a]);
+      }
+      part[b] = s;
+    });
+    double s;
+    ReduceBlocks(part, nb, 1, &s);
+    total += lambda / (4 * epsilon) * s;
+  }
+  return total;
+}
+
+void ATSolver::NormalizeU()
+{
+  ForBlocks(this->u.rows(), [&](std::int64_t, std::int64_t f0, std::int64_t f1) {
+    for (std::int64_t f = f0; f < f1; ++f)
+    {
+      const double n = this->u.row(f).norm();
+      if (n > 0)
+      {
+        this->u.row(f) /= n;
+      }
+    }
+  });
+}
+
+bool ATSolver::Run(const Eigen::MatrixXd& field, const ATProgressCallback& progress)
+{
+  this->Stats = ATStatistics();
+  this->WarningList.clear();
+  this->ErrorText = this->Params.Check();
+  if (!this->ErrorText.empty())
+  {
+    return false;
+  }
+  if (field.rows() != this->Complex.NumberOfFaces() || field.cols() < 1)
+  {
+    this->ErrorText = "the field has " + std::to_string(field.rows()) + " rows for " +
+      std::to_string(this->Complex.NumberOfFaces()) + " faces";
+    return false;
+  }
+  if (this->Params.Solver == ATLinearSolver::Cholmod && !CholmodAvailable())
+  {
+    this->WarningList.push_back("CHOLMOD is not available in this build: using SimplicialLDLT");
+    this->Params.Solver = ATLinearSolver::SimplicialLDLT;
+  }
+  this->USystem.reset();
+  this->VSystem.reset();
+  this->Initialize(field);
+
+  // The schedule eps_1, eps_1 / r, ... down to eps_2 (a relative slack so
+  // that 2 -> 0.25 by 2 or 1 -> 0.1 by 10 include their last level).
+  std::vector<double> levels;
+  for (double eps = this->Params.EpsilonStart;
+       eps >= this->Params.EpsilonEnd * (1 - 1e-9) && levels.size() < 1000;
+       eps /= this->Params.EpsilonRatio)
+  {
+    levels.push_back(eps);
+  }
+  const double steps = static_cast<double>(levels.size()) * this->Params.MaximumIterations;
+  for (std::size_t l = 0; l < levels.size(); ++l)
+  {
+    ++this->Stats.Levels;
+    for (int it = 0; it < this->Params.MaximumIterations; ++it)
+    {
+      const Eigen::VectorXd vPrev = this->v;
+      this->StepU();
+      this->StepV(levels[l]);
+      ++this->Stats.Iterations;
+      const double change = (this->v - vPrev).lpNorm<Eigen::Infinity>();
+      if (progress &&
+        !progress((static_cast<double>(l) * this->Params.MaximumIterations + it + 1) / steps))
+      {
+        return false;
+      }
+      if (change < this->Params.Tolerance)
+      {
+        break;
+      }
+    }
+  }
+  if (this->Params.Normalize)
+  {
+    this->NormalizeU();
+  }
+  return true;
+}
+
+} // namespace dg

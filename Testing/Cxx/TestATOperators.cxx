@@ -1,0 +1,552 @@
+// The Ambrosio-Tortorelli core without pipelines: the operators A, B, M on
+// hand-checked complexes (a cube of 6 quads, a tetrahedron, an open and a
+// non-manifold triangle mesh), their algebraic identities on digital
+// surfaces, the assembled systems and energy against independent formulas,
+// one step against a dense solve, energy descent, the three linear solvers
+// against each other, and determinism across thread counts.
+#include "dgATOperators.h"
+#include "dgATSolver.h"
+#include "dgGroundTruth.h"
+#include "dgTestShapes.h"
+#include "vtkDigitalSurfaceFilter.h"
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkIdList.h>
+#include <vtkNew.h>
+#include <vtkPolyData.h>
+#include <vtkSMPTools.h>
+
+#include <Eigen/Dense>
+#include <gtest/gtest.h>
+
+#include <map>
+#include <random>
+
+namespace
+{
+struct Polygons
+{
+  std::int64_t NumberOfVertices = 0;
+  std::vector<std::int64_t> Offsets{ 0 };
+  std::vector<std::int64_t> Connectivity;
+  void Add(std::initializer_list<std::int64_t> face)
+  {
+    for (std::int64_t v : face)
+    {
+      this->Connectivity.push_back(v);
+    }
+    this->Offsets.push_back(static_cast<std::int64_t>(this->Connectivity.size()));
+  }
+  std::int64_t NumberOfFaces() const { return static_cast<std::int64_t>(this->Offsets.size()) - 1; }
+};
+
+// Unit cube, vertex id = x + 2y + 4z, faces counter-clockwise from outside:
+// -z, +z, -y, +y, -x, +x.
+Polygons Cube()
+{
+  Polygons p;
+  p.NumberOfVertices = 8;
+  p.Add({ 0, 2, 3, 1 });
+  p.Add({ 4, 5, 7, 6 });
+  p.Add({ 0, 1, 5, 4 });
+  p.Add({ 2, 6, 7, 3 });
+  p.Add({ 0, 4, 6, 2 });
+  p.Add({ 1, 3, 7, 5 });
+  return p;
+}
+
+// Tetrahedron (0,0,0), (1,0,0), (0,1,0), (0,0,1), faces oriented outward.
+Polygons Tetrahedron()
+{
+  Polygons p;
+  p.NumberOfVertices = 4;
+  p.Add({ 0, 2, 1 });
+  p.Add({ 0, 1, 3 });
+  p.Add({ 0, 3, 2 });
+  p.Add({ 1, 2, 3 });
+  return p;
+}
+
+Polygons FromPolyData(vtkPolyData* pd)
+{
+  Polygons p;
+  p.NumberOfVertices = pd->GetNumberOfPoints();
+  vtkNew<vtkIdList> ids;
+  auto* polys = pd->GetPolys();
+  polys->InitTraversal();
+  while (polys->GetNextCell(ids))
+  {
+    for (vtkIdType i = 0; i < ids->GetNumberOfIds(); ++i)
+    {
+      p.Connectivity.push_back(ids->GetId(i));
+    }
+    p.Offsets.push_back(static_cast<std::int64_t>(p.Connectivity.size()));
+  }
+  return p;
+}
+
+vtkSmartPointer<vtkPolyData> Surface(vtkImageData* image)
+{
+  vtkNew<vtkDigitalSurfaceFilter> f;
+  f->SetInputData(image);
+  f->Update();
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  out->ShallowCopy(f->GetOutput());
+  return out;
+}
+
+dg::ATComplex Build(const Polygons& p)
+{
+  dg::ATComplex c;
+  std::string error;
+  EXPECT_TRUE(c.Build(p.NumberOfVertices, p.Offsets, p.Connectivity, &error)) << error;
+  return c;
+}
+
+Eigen::MatrixXd Dense(const dg::ATSparse& m)
+{
+  return Eigen::MatrixXd(m);
+}
+Eigen::MatrixXd Dense(const dg::ATSystemMatrix& m)
+{
+  return Eigen::MatrixXd(m);
+}
+
+// A noisy normal field per surfel: the trivial normal of a digital surface
+// plus a deterministic perturbation, or a random field for abstract meshes.
+Eigen::MatrixXd RandomField(std::int64_t n, int c, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> d;
+  Eigen::MatrixXd g(n, c);
+  for (std::int64_t i = 0; i < n; ++i)
+    for (int k = 0; k < c; ++k)
+      g(i, k) = d(rng);
+  return g;
+}
+
+Eigen::MatrixXd TrivialNormalsPlusNoise(vtkPolyData* pd, double sigma, unsigned seed)
+{
+  vtkDataArray* n = pd->GetCellData()->GetNormals();
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> d(0.0, sigma);
+  Eigen::MatrixXd g(pd->GetNumberOfCells(), 3);
+  for (vtkIdType c = 0; c < pd->GetNumberOfCells(); ++c)
+  {
+    Eigen::Vector3d x(n->GetComponent(c, 0), n->GetComponent(c, 1), n->GetComponent(c, 2));
+    x += Eigen::Vector3d(d(rng), d(rng), d(rng));
+    g.row(c) = x.normalized().transpose();
+  }
+  return g;
+}
+
+double MaxAbs(const Eigen::MatrixXd& m)
+{
+  return m.size() ? m.cwiseAbs().maxCoeff() : 0.0;
+}
+} // namespace
+
+TEST(ATOperators, CubeMatchesHandWrittenMatrices)
+{
+  const dg::ATComplex c = Build(Cube());
+  ASSERT_EQ(c.NumberOfVertices(), 8);
+  ASSERT_EQ(c.NumberOfEdges(), 12);
+  ASSERT_EQ(c.NumberOfFaces(), 6);
+  const int edges[12][2] = { { 0, 1 }, { 0, 2 }, { 0, 4 }, { 1, 3 }, { 1, 5 }, { 2, 3 }, { 2, 6 },
+    { 3, 7 }, { 4, 5 }, { 4, 6 }, { 5, 7 }, { 6, 7 } };
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(12, 8), m = Eigen::MatrixXd::Zero(12, 8);
+  for (int e = 0; e < 12; ++e)
+  {
+    EXPECT_EQ(c.EdgeVertices[2 * e], edges[e][0]);
+    EXPECT_EQ(c.EdgeVertices[2 * e + 1], edges[e][1]);
+    a(e, edges[e][0]) = -1;
+    a(e, edges[e][1]) = 1;
+    m(e, edges[e][0]) = m(e, edges[e][1]) = 0.5;
+  }
+  // Worked out by hand from the face windings: +1 where the face runs
+  // low -> high along the edge.
+  Eigen::MatrixXd b(12, 6);
+  b << -1, 0, 1, 0, 0, 0, //
+    1, 0, 0, 0, -1, 0,    //
+    0, 0, -1, 0, 1, 0,    //
+    -1, 0, 0, 0, 0, 1,    //
+    0, 0, 1, 0, 0, -1,    //
+    1, 0, 0, -1, 0, 0,    //
+    0, 0, 0, 1, -1, 0,    //
+    0, 0, 0, -1, 0, 1,    //
+    0, 1, -1, 0, 0, 0,    //
+    0, -1, 0, 0, 1, 0,    //
+    0, 1, 0, 0, 0, -1,    //
+    0, -1, 0, 1, 0, 0;
+  EXPECT_EQ(MaxAbs(Dense(c.MatrixA()) - a), 0.0);
+  EXPECT_EQ(MaxAbs(Dense(c.MatrixM()) - m), 0.0);
+  EXPECT_EQ(MaxAbs(Dense(c.MatrixB()) - b), 0.0);
+}
+
+TEST(ATOperators, TriangleMeshesMatchHandWrittenMatrices)
+{
+  {
+    const dg::ATComplex c = Build(Tetrahedron());
+    ASSERT_EQ(c.NumberOfEdges(), 6);
+    Eigen::MatrixXd a(6, 4), b(6, 4);
+    a << -1, 1, 0, 0, //
+      -1, 0, 1, 0,    //
+      -1, 0, 0, 1,    //
+      0, -1, 1, 0,    //
+      0, -1, 0, 1,    //
+      0, 0, -1, 1;
+    b << -1, 1, 0, 0, //
+      1, 0, -1, 0,    //
+      0, -1, 1, 0,    //
+      -1, 0, 0, 1,    //
+      0, 1, 0, -1,    //
+      0, 0, -1, 1;
+    EXPECT_EQ(MaxAbs(Dense(c.MatrixA()) - a), 0.0);
+    EXPECT_EQ(MaxAbs(Dense(c.MatrixM()) - 0.5 * a.cwiseAbs()), 0.0);
+    EXPECT_EQ(MaxAbs(Dense(c.MatrixB()) - b), 0.0);
+  }
+  {
+    // Open square split in two triangles (boundary edges have one face),
+    // plus a fin: a third triangle on the diagonal makes it non-manifold.
+    Polygons p;
+    p.NumberOfVertices = 5;
+    p.Add({ 0, 1, 2 });
+    p.Add({ 0, 2, 3 });
+    p.Add({ 2, 0, 4 });
+    const dg::ATComplex c = Build(p);
+    // Edges: 01 02 03 04 12 23 24.
+    ASSERT_EQ(c.NumberOfEdges(), 7);
+    Eigen::MatrixXd b(7, 3);
+    b << 1, 0, 0, //
+      -1, 1, -1,  //
+      0, -1, 0,   //
+      0, 0, 1,    //
+      1, 0, 0,    //
+      0, 1, 0,    //
+      0, 0, -1;
+    EXPECT_EQ(MaxAbs(Dense(c.MatrixB()) - b), 0.0);
+    EXPECT_EQ(c.EdgeFacePtr[2] - c.EdgeFacePtr[1], 3); // the fin edge has 3 faces
+  }
+}
+
+TEST(ATOperators, BadComplexIsRejected)
+{
+  dg::ATComplex c;
+  std::string error;
+  Polygons p;
+  p.NumberOfVertices = 3;
+  p.Add({ 0, 1, 5 });
+  EXPECT_FALSE(c.Build(p.NumberOfVertices, p.Offsets, p.Connectivity, &error));
+  EXPECT_NE(error.find("out of range"), std::string::npos) << error;
+  Polygons q;
+  q.NumberOfVertices = 3;
+  q.Add({ 1, 1, 1 });
+  EXPECT_FALSE(c.Build(q.NumberOfVertices, q.Offsets, q.Connectivity, &error));
+  EXPECT_NE(error.find("degenerate"), std::string::npos) << error;
+}
+
+TEST(ATOperators, AlgebraicIdentitiesOnDigitalSurfaces)
+{
+  auto ball = Surface(dgtest::Ball(14, 5.3));
+  auto cube = dgtest::MakeRotatedCube(Eigen::Vector3d(8.1, 7.9, 8.2), 4.5, 20, 30, 10);
+  auto rotated = Surface(dgtest::Digitize(*cube, 17));
+  for (vtkPolyData* pd : { ball.Get(), rotated.Get() })
+  {
+    const Polygons p = FromPolyData(pd);
+    const dg::ATComplex c = Build(p);
+    const dg::ATSparse a = c.MatrixA(), b = c.MatrixB();
+    // Closed manifold (genus 0 here): V - E + F = 2.
+    EXPECT_EQ(c.NumberOfVertices() - c.NumberOfEdges() + c.NumberOfFaces(), 2);
+
+    // A^T A is the graph Laplacian of the edges found independently.
+    std::map<std::pair<vtkIdType, vtkIdType>, int> edgeSet;
+    for (std::int64_t f = 0; f < p.NumberOfFaces(); ++f)
+      for (std::int64_t k = p.Offsets[f]; k < p.Offsets[f + 1]; ++k)
+      {
+        const std::int64_t u = p.Connectivity[k];
+        const std::int64_t w = p.Connectivity[k + 1 < p.Offsets[f + 1] ? k + 1 : p.Offsets[f]];
+        edgeSet[{ std::min(u, w), std::max(u, w) }] = 1;
+      }
+    ASSERT_EQ(static_cast<std::int64_t>(edgeSet.size()), c.NumberOfEdges());
+    const int n = static_cast<int>(c.NumberOfVertices());
+    Eigen::SparseMatrix<double> lap(n, n);
+    std::vector<Eigen::Triplet<double>> t;
+    for (const auto& e : edgeSet)
+    {
+      const int i = static_cast<int>(e.first.first), j = static_cast<int>(e.first.second);
+      t.emplace_back(i, j, -1.0);
+      t.emplace_back(j, i, -1.0);
+      t.emplace_back(i, i, 1.0);
+      t.emplace_back(j, j, 1.0);
+    }
+    lap.setFromTriplets(t.begin(), t.end());
+    Eigen::SparseMatrix<double> ata = Eigen::SparseMatrix<double>(a.transpose()) * a;
+    EXPECT_EQ((ata - lap).norm(), 0.0);
+
+    // Constant fields: A 1 = 0; B 1 = 0 on a closed oriented manifold (the
+    // two faces of an edge cross it in opposite directions); and d1 d0 = 0,
+    // i.e. B^T A = 0: the circulation of a gradient edge field around every
+    // face vanishes, by orientation.
+    EXPECT_EQ((a * Eigen::VectorXd::Ones(a.cols())).cwiseAbs().maxCoeff(), 0.0);
+    EXPECT_EQ((b * Eigen::VectorXd::Ones(b.cols())).cwiseAbs().maxCoeff(), 0.0);
+    EXPECT_EQ((Eigen::SparseMatrix<double>(b.transpose()) * a).norm(), 0.0);
+    // Every edge has two faces with opposite signs, or four (a digitised
+    // rotated cube has the odd non-manifold linel) of which two enter and
+    // two leave.
+    for (std::int64_t e = 0; e < c.NumberOfEdges(); ++e)
+    {
+      const auto n = c.EdgeFacePtr[e + 1] - c.EdgeFacePtr[e];
+      ASSERT_TRUE(n == 2 || n == 4) << n;
+      int sum = 0;
+      for (auto i = c.EdgeFacePtr[e]; i < c.EdgeFacePtr[e + 1]; ++i)
+      {
+        ASSERT_EQ(std::abs(c.EdgeFaceSigns[i]), 1);
+        sum += c.EdgeFaceSigns[i];
+      }
+      ASSERT_EQ(sum, 0);
+    }
+  }
+}
+
+TEST(ATOperators, NonManifoldDigitalSurface)
+{
+  // Two voxels touching along an edge only: that linel has four quads, and
+  // B still sums to zero there (two enter, two leave).
+  auto image = dgtest::MakeImage(4, 4, 3, [](int i, int j, int k) {
+    return (k == 1 && ((i == 1 && j == 1) || (i == 2 && j == 2))) ? 1.0 : 0.0;
+  });
+  auto pd = Surface(image);
+  const dg::ATComplex c = Build(FromPolyData(pd));
+  EXPECT_EQ(c.NumberOfFaces(), 12);
+  int four = 0;
+  for (std::int64_t e = 0; e < c.NumberOfEdges(); ++e)
+  {
+    const auto n = c.EdgeFacePtr[e + 1] - c.EdgeFacePtr[e];
+    four += n == 4;
+    int sum = 0;
+    for (auto i = c.EdgeFacePtr[e]; i < c.EdgeFacePtr[e + 1]; ++i)
+    {
+      sum += c.EdgeFaceSigns[i];
+    }
+    EXPECT_EQ(sum, 0);
+  }
+  EXPECT_EQ(four, 1);
+}
+
+TEST(ATOperators, SystemsAndEnergyMatchOperatorFormulas)
+{
+  auto pd = Surface(dgtest::Ball(10, 3.4));
+  const Polygons p = FromPolyData(pd);
+  const dg::ATComplex c = Build(p);
+  dg::ATParameters params;
+  params.Alpha = 0.07;
+  params.Lambda = 0.02;
+  dg::ATSolver s(c, params);
+  const Eigen::MatrixXd g = TrivialNormalsPlusNoise(pd, 0.3, 3);
+  s.Initialize(g);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unif(0.0, 1.0);
+  for (std::int64_t i = 0; i < s.V().size(); ++i)
+  {
+    s.V()[i] = unif(rng);
+  }
+  s.U() = g + 0.2 * RandomField(g.rows(), 3, 12);
+  const double eps = 0.7;
+  const Eigen::MatrixXd a = Dense(c.MatrixA()), b = Dense(c.MatrixB()), m = Dense(c.MatrixM());
+  const Eigen::VectorXd& v = s.V();
+  const Eigen::MatrixXd& u = s.U();
+  const Eigen::VectorXd mv = m * v;
+  const Eigen::MatrixXd bu = b * u;
+
+  // The systems of MATH.md section 4, from dense operators.
+  s.AssembleU();
+  s.AssembleV(eps);
+  const Eigen::MatrixXd ku = params.Alpha * Eigen::MatrixXd::Identity(g.rows(), g.rows()) +
+    b.transpose() * mv.cwiseAbs2().asDiagonal() * b;
+  const Eigen::VectorXd q = bu.cwiseAbs2().rowwise().sum();
+  const Eigen::MatrixXd kv =
+    params.Lambda / (4 * eps) * Eigen::MatrixXd::Identity(v.size(), v.size()) +
+    params.Lambda * eps * a.transpose() * a + m.transpose() * q.asDiagonal() * m;
+  EXPECT_LT(MaxAbs(Dense(s.UMatrix()) - ku), 1e-13);
+  EXPECT_LT(MaxAbs(Dense(s.VMatrix()) - kv), 1e-13);
+
+  // Energy: operators vs the solver's per-edge sums vs a brute force over
+  // the polygons' sides (each manifold edge seen twice, once per face).
+  const double fromOperators = params.Alpha * (u - g).squaredNorm() +
+    (mv.asDiagonal() * bu).squaredNorm() + params.Lambda * eps * (a * v).squaredNorm() +
+    params.Lambda / (4 * eps) * (Eigen::VectorXd::Ones(v.size()) - v).squaredNorm();
+  std::map<std::pair<std::int64_t, std::int64_t>, std::vector<std::pair<std::int64_t, int>>> sides;
+  for (std::int64_t f = 0; f < p.NumberOfFaces(); ++f)
+    for (std::int64_t k = p.Offsets[f]; k < p.Offsets[f + 1]; ++k)
+    {
+      const std::int64_t x = p.Connectivity[k];
+      const std::int64_t y = p.Connectivity[k + 1 < p.Offsets[f + 1] ? k + 1 : p.Offsets[f]];
+      sides[{ std::min(x, y), std::max(x, y) }].push_back({ f, x < y ? 1 : -1 });
+    }
+  double brute = 0;
+  for (std::int64_t f = 0; f < g.rows(); ++f)
+  {
+    brute += params.Alpha * (u.row(f) - g.row(f)).squaredNorm();
+  }
+  for (const auto& e : sides)
+  {
+    const double va = v[e.first.first], vb = v[e.first.second];
+    ASSERT_EQ(e.second.size(), 2u);
+    // The face that crosses the edge low -> high minus the other one.
+    const auto& s0 = e.second[0].second > 0 ? e.second[0] : e.second[1];
+    const auto& s1 = e.second[0].second > 0 ? e.second[1] : e.second[0];
+    const double jump2 = (u.row(s0.first) - u.row(s1.first)).squaredNorm();
+    brute += 0.25 * (va + vb) * (va + vb) * jump2 + params.Lambda * eps * (vb - va) * (vb - va);
+  }
+  for (std::int64_t i = 0; i < v.size(); ++i)
+  {
+    brute += params.Lambda / (4 * eps) * (1 - v[i]) * (1 - v[i]);
+  }
+  EXPECT_NEAR(s.Energy(eps), fromOperators, 1e-10 * fromOperators);
+  EXPECT_NEAR(s.Energy(eps), brute, 1e-10 * brute);
+}
+
+TEST(ATOperators, OneStepEqualsDenseSolve)
+{
+  auto pd = Surface(dgtest::Ball(8, 2.6));
+  const dg::ATComplex c = Build(FromPolyData(pd));
+  const Eigen::MatrixXd g = TrivialNormalsPlusNoise(pd, 0.4, 5);
+  for (auto solver : { dg::ATLinearSolver::ConjugateGradient, dg::ATLinearSolver::SimplicialLDLT,
+         dg::ATLinearSolver::Cholmod })
+  {
+    if (solver == dg::ATLinearSolver::Cholmod && !dg::CholmodAvailable())
+    {
+      continue;
+    }
+    dg::ATParameters params;
+    params.Solver = solver;
+    params.CGTolerance = 1e-13;
+    dg::ATSolver s(c, params);
+    s.Initialize(g);
+    const double eps = 1.0;
+    // Start from a non-trivial v so that the u-matrix is not alpha I + L.
+    for (std::int64_t i = 0; i < s.V().size(); ++i)
+    {
+      s.V()[i] = 0.3 + 0.7 * std::abs(std::sin(1.7 * i));
+    }
+    const Eigen::MatrixXd a = Dense(c.MatrixA()), b = Dense(c.MatrixB()), m = Dense(c.MatrixM());
+    const Eigen::VectorXd mv = m * s.V();
+    const Eigen::MatrixXd ku = params.Alpha * Eigen::MatrixXd::Identity(g.rows(), g.rows()) +
+      b.transpose() * mv.cwiseAbs2().asDiagonal() * b;
+    const Eigen::MatrixXd uRef = ku.ldlt().solve(params.Alpha * g);
+    ASSERT_TRUE(s.StepU()) << dg::ATLinearSolverName(solver);
+    EXPECT_LT(MaxAbs(s.U() - uRef), 1e-10) << dg::ATLinearSolverName(solver);
+
+    const Eigen::VectorXd q = (b * s.U()).cwiseAbs2().rowwise().sum();
+    const int n = static_cast<int>(s.V().size());
+    const Eigen::MatrixXd kv = params.Lambda / (4 * eps) * Eigen::MatrixXd::Identity(n, n) +
+      params.Lambda * eps * a.transpose() * a + m.transpose() * q.asDiagonal() * m;
+    const Eigen::VectorXd vRef =
+      kv.ldlt().solve(Eigen::VectorXd::Constant(n, params.Lambda / (4 * eps)));
+    ASSERT_TRUE(s.StepV(eps)) << dg::ATLinearSolverName(solver);
+    EXPECT_LT(MaxAbs(s.V() - vRef), 1e-10) << dg::ATLinearSolverName(solver);
+    EXPECT_TRUE(s.Warnings().empty());
+  }
+}
+
+TEST(ATOperators, EnergyDecreasesWithinEachLevel)
+{
+  std::vector<vtkSmartPointer<vtkPolyData>> shapes;
+  shapes.push_back(Surface(dgtest::Ball(20, 7.3)));
+  auto cube = dgtest::MakeRotatedCube(Eigen::Vector3d(12.1, 11.9, 12.2), 7, 20, 30, 10);
+  shapes.push_back(Surface(dgtest::Digitize(*cube, 25)));
+  auto cs = dgtest::MakeCubeSphere(Eigen::Vector3d(12.1, 11.9, 12.2), 8, 10);
+  shapes.push_back(Surface(dgtest::Digitize(*cs, 25)));
+  for (auto solver : { dg::ATLinearSolver::SimplicialLDLT, dg::ATLinearSolver::ConjugateGradient })
+  {
+    for (std::size_t k = 0; k < shapes.size(); ++k)
+    {
+      const dg::ATComplex c = Build(FromPolyData(shapes[k]));
+      const Eigen::MatrixXd g = TrivialNormalsPlusNoise(shapes[k], 0.2, 7 + k);
+      dg::ATParameters params;
+      params.Solver = solver;
+      dg::ATSolver s(c, params);
+      s.Initialize(g);
+      int checked = 0;
+      for (double eps : { 2.0, 1.0, 0.5, 0.25 })
+      {
+        double previous = s.Energy(eps);
+        for (int it = 0; it < 6; ++it)
+        {
+          ASSERT_TRUE(s.StepU());
+          const double afterU = s.Energy(eps);
+          ASSERT_TRUE(s.StepV(eps));
+          const double afterV = s.Energy(eps);
+          // Each block step minimises exactly (up to the solver's accuracy).
+          EXPECT_LE(afterU, previous * (1 + 1e-10)) << "shape " << k << " eps " << eps;
+          EXPECT_LE(afterV, afterU * (1 + 1e-10)) << "shape " << k << " eps " << eps;
+          previous = afterV;
+          ++checked;
+        }
+      }
+      EXPECT_EQ(checked, 24);
+    }
+  }
+}
+
+TEST(ATOperators, SolversAgreeAndRunIsDeterministic)
+{
+  auto cube = dgtest::MakeRotatedCube(Eigen::Vector3d(16.1, 15.9, 16.2), 10, 20, 30, 10);
+  auto pd = Surface(dgtest::Digitize(*cube, 33));
+  const dg::ATComplex c = Build(FromPolyData(pd));
+  const Eigen::MatrixXd g = TrivialNormalsPlusNoise(pd, 0.2, 9);
+  auto run = [&](dg::ATLinearSolver solver, int threads) {
+    vtkSMPTools::Initialize(threads);
+    dg::ATParameters params;
+    params.Solver = solver;
+    auto s = std::make_unique<dg::ATSolver>(c, params);
+    EXPECT_TRUE(s->Run(g));
+    EXPECT_TRUE(s->Warnings().empty());
+    return s;
+  };
+  auto ldlt = run(dg::ATLinearSolver::SimplicialLDLT, 2);
+  auto cg2 = run(dg::ATLinearSolver::ConjugateGradient, 2);
+  auto cg1 = run(dg::ATLinearSolver::ConjugateGradient, 1);
+  vtkSMPTools::Initialize(2);
+  auto rel = [](const Eigen::MatrixXd& x, const Eigen::MatrixXd& ref) {
+    return MaxAbs(x - ref) / MaxAbs(ref);
+  };
+  EXPECT_LT(rel(cg2->U(), ldlt->U()), 1e-6);
+  EXPECT_LT(rel(cg2->V(), ldlt->V()), 1e-6);
+  if (dg::CholmodAvailable())
+  {
+    auto chol = run(dg::ATLinearSolver::Cholmod, 2);
+    EXPECT_LT(rel(chol->U(), ldlt->U()), 1e-9);
+    EXPECT_LT(rel(chol->V(), ldlt->V()), 1e-9);
+  }
+  // Bitwise identical whatever the thread count.
+  EXPECT_EQ(MaxAbs(cg1->U() - cg2->U()), 0.0);
+  EXPECT_EQ(MaxAbs(cg1->V() - cg2->V()), 0.0);
+  // The run did find the cube's edges: some v well below 1/2.
+  EXPECT_LT(ldlt->V().minCoeff(), 0.2);
+  // Unit-length u after the run.
+  EXPECT_LT((ldlt->U().rowwise().norm().array() - 1).abs().maxCoeff(), 1e-12);
+}
+
+TEST(ATOperators, InvalidParametersAreReported)
+{
+  const dg::ATComplex c = Build(Cube());
+  const Eigen::MatrixXd g = RandomField(6, 3, 1);
+  auto check = [&](auto change, const char* word) {
+    dg::ATParameters p;
+    change(p);
+    EXPECT_NE(p.Check().find(word), std::string::npos) << p.Check();
+    dg::ATSolver s(c, p);
+    EXPECT_FALSE(s.Run(g));
+    EXPECT_FALSE(s.Error().empty());
+  };
+  check([](dg::ATParameters& p) { p.Alpha = 0; }, "Alpha");
+  check([](dg::ATParameters& p) { p.Lambda = -1; }, "Lambda");
+  check([](dg::ATParameters& p) { p.EpsilonEnd = 4; }, "EpsilonStart");
+  check([](dg::ATParameters& p) { p.EpsilonEnd = 0; }, "EpsilonEnd");
+  check([](dg::ATParameters& p) { p.EpsilonRatio = 1; }, "EpsilonRatio");
+  check([](dg::ATParameters& p) { p.MaximumIterations = 0; }, "MaximumIterations");
+  EXPECT_TRUE(dg::ATParameters().Check().empty());
+}
