@@ -9,7 +9,9 @@
 #include <vtkMetaImageReader.h>
 #include <vtkNew.h>
 #include <vtkNrrdReader.h>
+#include <vtkOutputWindow.h>
 #include <vtkPointData.h>
+#include <vtkStringOutputWindow.h>
 #include <vtkXMLImageDataReader.h>
 
 #include <sys/stat.h>
@@ -136,8 +138,39 @@ vtkSmartPointer<vtkImageData> ReadImage(const std::string& path, std::string& er
     return nullptr;
   }
   reader->AddObserver(vtkCommand::ErrorEvent, cb);
+  // vtkImageReader2 subclasses (NRRD, MetaImage raw) only *warn* when the
+  // data is shorter than the header says, and return the partial volume.
+  const bool warningsFail = !reader->IsA("vtkDICOMImageReader");
+  if (warningsFail)
+  {
+    reader->AddObserver(vtkCommand::WarningEvent, cb);
+  }
   reader->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, cb);
+  // Some readers report short reads with vtkGenericWarningMacro, which no
+  // observer sees: collect the output window's text during the read.
+  vtkSmartPointer<vtkOutputWindow> previous = vtkOutputWindow::GetInstance();
+  vtkNew<vtkStringOutputWindow> collected;
+  vtkOutputWindow::SetInstance(collected);
   reader->Update();
+  vtkOutputWindow::SetInstance(previous);
+  if (warningsFail && !collected->GetOutput().empty())
+  {
+    sink.Failed = true;
+    if (sink.Message.empty())
+    {
+      std::string m = collected->GetOutput();
+      while (!m.empty() && (m.back() == '\n' || m.back() == ' '))
+      {
+        m.pop_back();
+      }
+      const auto nl = m.find_last_of('\n');
+      sink.Message = nl == std::string::npos ? m : m.substr(nl + 1);
+      if (m.find("File operation failed") != std::string::npos)
+      {
+        sink.Message = "file is shorter than its header says (truncated)";
+      }
+    }
+  }
   if (auto* vol = vtkDGtalVolReader::SafeDownCast(reader))
   {
     if (sink.Failed)

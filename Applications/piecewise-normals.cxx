@@ -1,42 +1,276 @@
-// piecewise-normals: from a segmented volume to its digital surface (and, as
-// the later stages land, regularised normals, sharp features and pictures).
+// piecewise-normals: from a segmented volume to its digital surface,
+// integral-invariant normals, Ambrosio-Tortorelli regularised normals, sharp
+// features, and a picture. See --help.
 #include "dgBuiltinShape.h"
-#include "vtkDGtalVolReader.h"
+#include "dgImageInput.h"
+#include "dgRender.h"
+#include "vtkAmbrosioTortorelliFilter.h"
+#include "vtkDigitalNoiseFilter.h"
 #include "vtkDigitalSurfaceFilter.h"
+#include "vtkIINormalEstimator.h"
 
+#include <vtkCellData.h>
 #include <vtkCommand.h>
+#include <vtkExecutive.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
+#include <vtkOBJWriter.h>
+#include <vtkPLYWriter.h>
+#include <vtkPointData.h>
 #include <vtkPolyData.h>
 #include <vtkSMPTools.h>
 #include <vtkXMLPolyDataWriter.h>
 
+#include <sys/resource.h>
+#include <unistd.h>
+
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <sstream>
 #include <string>
+#include <vector>
 
 namespace
 {
+const char* Program = "piecewise-normals";
+
 struct Options
 {
   std::string Input;
   std::string OutputDir = ".";
+  std::string Prefix;
   int BuiltinSize = 96;
+  // Selection of inside voxels.
+  int SelectionMode = vtkDigitalSurfaceFilter::NON_ZERO;
+  double Lower = 1, Upper = VTK_DOUBLE_MAX, Label = 1;
+  // Noise (MATH.md section 7).
+  double Noise = 0;
+  int Seed = 0;
+  // Integral invariant.
+  double Radius = 4;
+  bool Curvatures = false;
+  // Ambrosio-Tortorelli (paper defaults).
+  double Alpha = 0.1, Lambda = 0.01, EpsStart = 2, EpsEnd = 0.25, EpsRatio = 2;
+  int Iterations = 5;
+  double Tolerance = 1e-4, FeatureThreshold = 0.5;
+  // Outputs.
+  bool Png = true, Panels = false, Ply = false, Obj = false, Quiet = false;
+  int Width = 1200, Height = 900;
 };
 
 void Usage()
 {
-  std::cout << "usage: piecewise-normals [options] [volume.vol]\n"
-               "  With no volume, runs on a built-in shape (a rotated cube with a sphere and a\n"
-               "  cylindrical hole), digitised on a 96^3 grid.\n"
-               "  --output-dir DIR   where surface.vtp is written (default: .)\n"
-               "  --size N           grid size of the built-in shape (default 96)\n"
-               "  -h, --help         this help\n";
+  std::cout <<
+    R"(usage: piecewise-normals [options] [INPUT]
+
+Reconstructs a piecewise-smooth normal field on the digital surface of a
+segmented volume and delineates its sharp features (Coeurjolly, Foare, Gueth,
+Lachaud, Pacific Graphics 2016): volume -> voxel-face surface -> integral-
+invariant normals -> Ambrosio-Tortorelli regularisation -> files + picture.
+
+INPUT   a DGtal .vol (Version 2 or 3), VTK .vti, MetaImage .mha/.mhd, NRRD
+        .nrrd/.nhdr, a DICOM file (.dcm) or a directory of DICOM slices. With
+        no INPUT: a built-in shape (rotated cube + sphere - cylinder, 96^3).
+
+Inside voxels (default: value != 0)
+  --label L              voxels whose value is L (label maps)
+  --range LO HI          voxels whose value is in [LO, HI]
+Noise (the paper's model: flip with probability k^(1 + distance to boundary))
+  --noise K              noise level k in [0, 1] (default 0: none)
+  --seed S               random seed (default 0)
+Integral-invariant normals
+  --radius R             ball radius in voxels (default 4)
+  --curvatures           also output mean, Gaussian and principal curvatures
+Ambrosio-Tortorelli (lengths in voxels: the metric is the identity)
+  --alpha A              data attachment weight (default 0.1; larger = closer to input)
+  --lambda L             length penalty of the features (default 0.01; larger = fewer features)
+  --eps-start E          initial epsilon, width of the feature zone (default 2)
+  --eps-end E            final epsilon (default 0.25)
+  --eps-ratio R          epsilon divisor between levels, > 1 (default 2)
+  --iterations N         maximum alternating iterations per level (default 5)
+  --tolerance T          stop a level when max |v - v_prev| < T (default 1e-4)
+  --feature-threshold T  an edge is a feature when v < T at both ends (default 0.5)
+Outputs (in --output-dir, named PREFIX_*; PREFIX defaults to the input's name)
+  --output-dir DIR       default: current directory
+  --prefix NAME          file name prefix
+  --size N               grid size of the built-in shape (default 96)
+  --no-png               no picture
+  --panels               picture with three panels: input | regularised | features
+  --width W --height H   picture size in pixels (default 1200 x 900; with
+                         --panels the height is W / 3)
+  --ply, --obj           also write the surface as PLY / OBJ
+  --quiet                no progress bar
+  -h, --help             this help
+
+Writes PREFIX_surface.vtp (cell data: ATNormals, IINormals, trivial Normals;
+point data: v), PREFIX_features.vtp (feature edges as lines, with v) and
+PREFIX.png. Exit status 0 on success, 1 on bad input, 2 on bad options.
+)";
 }
 
-// Turns VTK errors into one-line messages and a failure flag.
+[[noreturn]] void OptionError(const std::string& message)
+{
+  std::cerr << Program << ": " << message << " (see --help)\n";
+  std::exit(2);
+}
+
+double ParseNumber(const std::string& option, const std::string& text)
+{
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || !end || *end != '\0' || !std::isfinite(v))
+  {
+    OptionError(option + " expects a number, got '" + text + "'");
+  }
+  return v;
+}
+
+Options ParseOptions(int argc, char* argv[])
+{
+  Options o;
+  for (int a = 1; a < argc; ++a)
+  {
+    const std::string arg = argv[a];
+    auto value = [&]() -> std::string {
+      if (a + 1 >= argc)
+      {
+        OptionError(arg + " needs a value");
+      }
+      return argv[++a];
+    };
+    auto number = [&]() { return ParseNumber(arg, value()); };
+    if (arg == "-h" || arg == "--help")
+    {
+      Usage();
+      std::exit(0);
+    }
+    else if (arg == "--output-dir")
+      o.OutputDir = value();
+    else if (arg == "--prefix")
+      o.Prefix = value();
+    else if (arg == "--size")
+      o.BuiltinSize = static_cast<int>(number());
+    else if (arg == "--label")
+    {
+      o.SelectionMode = vtkDigitalSurfaceFilter::LABEL;
+      o.Label = number();
+    }
+    else if (arg == "--range")
+    {
+      o.SelectionMode = vtkDigitalSurfaceFilter::RANGE;
+      o.Lower = number();
+      o.Upper = number();
+    }
+    else if (arg == "--noise")
+      o.Noise = number();
+    else if (arg == "--seed")
+    {
+      const double s = number();
+      if (s < 0 || s > 2147483647.0 || s != std::floor(s))
+        OptionError("--seed expects an integer in [0, 2^31 - 1]");
+      o.Seed = static_cast<int>(s);
+    }
+    else if (arg == "--radius")
+      o.Radius = number();
+    else if (arg == "--curvatures")
+      o.Curvatures = true;
+    else if (arg == "--alpha")
+      o.Alpha = number();
+    else if (arg == "--lambda")
+      o.Lambda = number();
+    else if (arg == "--eps-start")
+      o.EpsStart = number();
+    else if (arg == "--eps-end")
+      o.EpsEnd = number();
+    else if (arg == "--eps-ratio")
+      o.EpsRatio = number();
+    else if (arg == "--iterations")
+      o.Iterations = static_cast<int>(number());
+    else if (arg == "--tolerance")
+      o.Tolerance = number();
+    else if (arg == "--feature-threshold")
+      o.FeatureThreshold = number();
+    else if (arg == "--no-png")
+      o.Png = false;
+    else if (arg == "--panels")
+      o.Panels = true;
+    else if (arg == "--width")
+      o.Width = static_cast<int>(number());
+    else if (arg == "--height")
+      o.Height = static_cast<int>(number());
+    else if (arg == "--ply")
+      o.Ply = true;
+    else if (arg == "--obj")
+      o.Obj = true;
+    else if (arg == "--quiet")
+      o.Quiet = true;
+    else if (arg.size() > 1 && arg[0] == '-')
+      OptionError("unknown option " + arg);
+    else if (!o.Input.empty())
+      OptionError("more than one input (" + o.Input + ", " + arg + ")");
+    else
+      o.Input = arg;
+  }
+  // Nonsensical parameters are refused here, with the option's name.
+  if (o.BuiltinSize < 16 || o.BuiltinSize > 1024)
+    OptionError("--size must be in [16, 1024]");
+  if (o.SelectionMode == vtkDigitalSurfaceFilter::RANGE && !(o.Lower <= o.Upper))
+    OptionError("--range needs LO <= HI");
+  if (o.Noise < 0 || o.Noise > 1)
+    OptionError("--noise must be in [0, 1]");
+  if (!(o.Radius > 0))
+    OptionError("--radius must be > 0");
+  if (!(o.Alpha > 0))
+    OptionError("--alpha must be > 0");
+  if (!(o.Lambda > 0))
+    OptionError("--lambda must be > 0");
+  if (!(o.EpsEnd > 0) || !(o.EpsStart >= o.EpsEnd))
+    OptionError("epsilons need 0 < --eps-end <= --eps-start");
+  if (!(o.EpsRatio > 1))
+    OptionError("--eps-ratio must be > 1");
+  if (o.Iterations < 1)
+    OptionError("--iterations must be >= 1");
+  if (!(o.Tolerance > 0))
+    OptionError("--tolerance must be > 0");
+  if (!(o.FeatureThreshold > 0 && o.FeatureThreshold < 1))
+    OptionError("--feature-threshold must be in (0, 1)");
+  if (o.Width < 64 || o.Height < 64 || o.Width > 8192 || o.Height > 8192)
+    OptionError("--width and --height must be in [64, 8192]");
+  return o;
+}
+
+// Progress bar on the terminal, fed by the filters' ProgressEvent; silent
+// when stderr is not a terminal (logs, CI).
+class ProgressBar : public vtkCommand
+{
+public:
+  static ProgressBar* New() { return new ProgressBar; }
+  void Execute(vtkObject*, unsigned long, void* data) override
+  {
+    if (!this->Enabled || !data)
+    {
+      return;
+    }
+    const double f = *static_cast<double*>(data);
+    const int width = 30;
+    const int filled = static_cast<int>(f * width + 0.5);
+    std::fprintf(stderr, "\r%-22s [%s%s] %3d%%", this->Stage.c_str(),
+      std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(),
+      static_cast<int>(100 * f + 0.5));
+    if (f >= 1.0)
+    {
+      std::fprintf(stderr, "\n");
+    }
+    std::fflush(stderr);
+  }
+  bool Enabled = false;
+  std::string Stage;
+};
+
+// Collects the first VTK error of any stage as one line.
 class ErrorCatcher : public vtkCommand
 {
 public:
@@ -46,116 +280,267 @@ public:
     this->Failed = true;
     if (data && this->Message.empty())
     {
-      this->Message = static_cast<const char*>(data);
+      std::string m = static_cast<const char*>(data);
+      while (!m.empty() && (m.back() == '\n' || m.back() == ' '))
+        m.pop_back();
+      const auto nl = m.find_last_of('\n');
+      m = nl == std::string::npos ? m : m.substr(nl + 1);
+      // "vtkClass (0x55...): message" -> "vtkClass: message"
+      const auto open = m.find(" (0x");
+      const auto close = m.find("): ", open == std::string::npos ? 0 : open);
+      if (open != std::string::npos && close != std::string::npos)
+      {
+        m = m.substr(0, open) + m.substr(close + 1);
+      }
+      this->Message = m;
     }
   }
   bool Failed = false;
   std::string Message;
 };
+
+// Files are written under temporary names and renamed only when every one
+// of them succeeded, so that a failure leaves no partial output behind.
+class OutputFiles
+{
+public:
+  std::string Temporary(const std::string& final)
+  {
+    this->Finals.push_back(final);
+    this->Temps.push_back(final + ".part");
+    return this->Temps.back();
+  }
+  bool Commit()
+  {
+    for (std::size_t i = 0; i < this->Finals.size(); ++i)
+    {
+      if (std::rename(this->Temps[i].c_str(), this->Finals[i].c_str()) != 0)
+      {
+        return false;
+      }
+    }
+    this->Temps.clear();
+    return true;
+  }
+  ~OutputFiles()
+  {
+    for (const auto& t : this->Temps)
+      std::remove(t.c_str());
+  }
+  std::vector<std::string> Finals, Temps;
+};
+
+std::string Stem(const std::string& path)
+{
+  std::string s = path;
+  while (!s.empty() && s.back() == '/')
+    s.pop_back();
+  const auto slash = s.find_last_of('/');
+  if (slash != std::string::npos)
+    s = s.substr(slash + 1);
+  const auto dot = s.find_last_of('.');
+  if (dot != std::string::npos && dot > 0)
+    s = s.substr(0, dot);
+  return s.empty() ? "result" : s;
+}
+
+double PeakMemoryMiB()
+{
+  rusage u;
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_maxrss / 1024.0;
+}
+
+int Fail(const std::string& message)
+{
+  std::cerr << Program << ": " << message << "\n";
+  return 1;
+}
 } // namespace
 
 int main(int argc, char* argv[])
 {
-  Options opt;
-  for (int a = 1; a < argc; ++a)
+  const Options opt = ParseOptions(argc, argv);
+  if (!std::getenv("VTK_SMP_BACKEND_IN_USE"))
   {
-    const std::string arg = argv[a];
-    auto value = [&]() -> std::string {
-      if (a + 1 >= argc)
-      {
-        std::cerr << "piecewise-normals: " << arg << " needs a value\n";
-        std::exit(2);
-      }
-      return argv[++a];
-    };
-    if (arg == "-h" || arg == "--help")
-    {
-      Usage();
-      return 0;
-    }
-    else if (arg == "--output-dir")
-    {
-      opt.OutputDir = value();
-    }
-    else if (arg == "--size")
-    {
-      opt.BuiltinSize = std::atoi(value().c_str());
-      if (opt.BuiltinSize < 8 || opt.BuiltinSize > 1024)
-      {
-        std::cerr << "piecewise-normals: --size must be in [8, 1024]\n";
-        return 2;
-      }
-    }
-    else if (!arg.empty() && arg[0] == '-')
-    {
-      std::cerr << "piecewise-normals: unknown option " << arg << " (see --help)\n";
-      return 2;
-    }
-    else
-    {
-      opt.Input = arg;
-    }
+    vtkSMPTools::SetBackend("STDThread"); // Debian's ParaView VTK defaults to sequential
   }
-
   using Clock = std::chrono::steady_clock;
-  const auto t0 = Clock::now();
+  std::vector<std::pair<std::string, double>> times;
+  auto t = Clock::now();
+  auto lap = [&](const std::string& stage) {
+    const auto now = Clock::now();
+    times.emplace_back(stage, std::chrono::duration<double>(now - t).count());
+    t = now;
+  };
+
+  vtkNew<ProgressBar> progress;
+  progress->Enabled = !opt.Quiet && isatty(2);
   vtkNew<ErrorCatcher> errors;
+  auto watch = [&](vtkAlgorithm* algo) {
+    algo->AddObserver(vtkCommand::ErrorEvent, errors);
+    algo->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, errors);
+    algo->AddObserver(vtkCommand::ProgressEvent, progress);
+  };
+
+  // 1. Input volume.
   vtkSmartPointer<vtkImageData> image;
-  std::string inputName = "built-in shape";
+  std::string prefix = opt.Prefix;
   if (opt.Input.empty())
   {
     image = dg::MakeBuiltinShape(opt.BuiltinSize);
+    if (prefix.empty())
+      prefix = "builtin";
   }
   else
   {
-    vtkNew<vtkDGtalVolReader> reader;
-    reader->AddObserver(vtkCommand::ErrorEvent, errors);
-    reader->SetFileName(opt.Input.c_str());
-    reader->Update();
-    if (errors->Failed)
-    {
-      std::cerr << "piecewise-normals: " << reader->GetErrorMessage() << "\n";
-      return 1;
-    }
-    image = reader->GetOutput();
-    inputName = opt.Input;
+    std::string error;
+    image = dg::ReadImage(opt.Input, error);
+    if (!image)
+      return Fail(error);
+    if (prefix.empty())
+      prefix = Stem(opt.Input);
   }
-  const auto t1 = Clock::now();
+  lap("read");
 
+  vtkSmartPointer<vtkAlgorithm> source;
+  vtkNew<vtkDigitalNoiseFilter> noise;
   vtkNew<vtkDigitalSurfaceFilter> surface;
-  surface->AddObserver(vtkCommand::ErrorEvent, errors);
-  surface->SetInputData(image);
+  surface->SetSelectionMode(opt.SelectionMode);
+  surface->SetLowerThreshold(opt.Lower);
+  surface->SetUpperThreshold(opt.Upper);
+  surface->SetLabel(opt.Label);
+  vtkSmartPointer<vtkImageData> volume = image;
+  if (opt.Noise > 0)
+  {
+    watch(noise);
+    progress->Stage = "noise";
+    noise->SetInputData(image);
+    noise->SetSelectionMode(opt.SelectionMode);
+    noise->SetLowerThreshold(opt.Lower);
+    noise->SetUpperThreshold(opt.Upper);
+    noise->SetLabel(opt.Label);
+    noise->SetNoiseLevel(opt.Noise);
+    noise->SetSeed(opt.Seed);
+    noise->Update();
+    if (errors->Failed)
+      return Fail(errors->Message);
+    volume = noise->GetOutput();
+    // The noisy volume is already 0/1: select it as it is.
+    surface->SetSelectionModeToNonZero();
+    lap("noise");
+  }
+
+  // 2. Digital surface.
+  watch(surface);
+  progress->Stage = "digital surface";
+  surface->SetInputData(volume);
   surface->Update();
   if (errors->Failed)
-  {
-    std::cerr << "piecewise-normals: " << errors->Message << "\n";
-    return 1;
-  }
-  const auto t2 = Clock::now();
+    return Fail(errors->Message);
+  lap("surface");
 
-  const std::string path = opt.OutputDir + "/surface.vtp";
-  const std::string tmp = path + ".part";
-  vtkNew<vtkXMLPolyDataWriter> writer;
-  writer->SetInputConnection(surface->GetOutputPort());
-  writer->SetFileName(tmp.c_str());
-  writer->SetDataModeToBinary(); // appended data trips Debian's expat + VTK 9.2 reader
-  writer->SetCompressorTypeToZLib();
-  if (!writer->Write() || std::rename(tmp.c_str(), path.c_str()) != 0)
-  {
-    std::remove(tmp.c_str());
-    std::cerr << "piecewise-normals: cannot write " << path << "\n";
-    return 1;
-  }
-  const auto t3 = Clock::now();
-  auto ms = [](Clock::time_point a, Clock::time_point b) {
-    return std::chrono::duration<double, std::milli>(b - a).count();
+  // 3. Integral-invariant normals.
+  vtkNew<vtkIINormalEstimator> ii;
+  watch(ii);
+  progress->Stage = "II normals";
+  ii->SetInputConnection(surface->GetOutputPort());
+  ii->SetSourceData(volume);
+  ii->SetRadius(opt.Radius);
+  ii->SetComputeCurvatures(opt.Curvatures);
+  // The estimator must count the same voxels as inside as the surface did.
+  ii->SetSelectionMode(surface->GetSelectionMode());
+  ii->SetLowerThreshold(surface->GetLowerThreshold());
+  ii->SetUpperThreshold(surface->GetUpperThreshold());
+  ii->SetLabel(surface->GetLabel());
+  ii->Update();
+  if (errors->Failed)
+    return Fail(errors->Message);
+  lap("II normals");
+
+  // 4. Ambrosio-Tortorelli.
+  vtkNew<vtkAmbrosioTortorelliFilter> at;
+  watch(at);
+  progress->Stage = "Ambrosio-Tortorelli";
+  at->SetInputConnection(ii->GetOutputPort());
+  at->SetAlpha(opt.Alpha);
+  at->SetLambda(opt.Lambda);
+  at->SetEpsilonStart(opt.EpsStart);
+  at->SetEpsilonEnd(opt.EpsEnd);
+  at->SetEpsilonRatio(opt.EpsRatio);
+  at->SetMaximumIterations(opt.Iterations);
+  at->SetTolerance(opt.Tolerance);
+  at->SetFeatureThreshold(opt.FeatureThreshold);
+  at->Update();
+  if (errors->Failed)
+    return Fail(errors->Message);
+  lap("Ambrosio-Tortorelli");
+  vtkPolyData* result = at->GetOutput(0);
+  vtkPolyData* features = at->GetOutput(1);
+
+  // 5. Files.
+  OutputFiles files;
+  const std::string base = opt.OutputDir + "/" + prefix;
+  auto writeVtp = [&](vtkPolyData* pd, const std::string& path) {
+    vtkNew<vtkXMLPolyDataWriter> w;
+    w->SetInputData(pd);
+    w->SetFileName(files.Temporary(path).c_str());
+    w->SetDataModeToBinary(); // appended data trips Debian's expat + VTK 9.2 reader
+    w->SetCompressorTypeToZLib();
+    return w->Write() == 1;
   };
+  if (!writeVtp(result, base + "_surface.vtp") || !writeVtp(features, base + "_features.vtp"))
+    return Fail("cannot write into '" + opt.OutputDir + "'");
+  if (opt.Ply)
+  {
+    vtkNew<vtkPLYWriter> w;
+    w->SetInputData(result);
+    w->SetFileName(files.Temporary(base + "_surface.ply").c_str());
+    if (w->Write() != 1)
+      return Fail("cannot write " + base + "_surface.ply");
+  }
+  if (opt.Obj)
+  {
+    vtkNew<vtkOBJWriter> w;
+    w->SetInputData(result);
+    w->SetFileName(files.Temporary(base + "_surface.obj").c_str());
+    if (w->Write() != 1)
+      return Fail("cannot write " + base + "_surface.obj");
+  }
+  lap("write");
+  if (opt.Png)
+  {
+    dg::RenderOptions ro;
+    ro.Width = opt.Width;
+    ro.Height = opt.Height;
+    ro.Panels = opt.Panels;
+    std::string error;
+    const std::string png = files.Temporary(base + ".png");
+    if (!dg::RenderPicture(result, "IINormals", features, ro, png, error))
+      return Fail(error);
+    lap("render");
+  }
+  if (!files.Commit())
+    return Fail("cannot rename the output files in '" + opt.OutputDir + "'");
+
   int dims[3];
-  image->GetDimensions(dims);
-  std::cout << "piecewise-normals: " << inputName << " " << dims[0] << "x" << dims[1] << "x"
-            << dims[2] << " -> " << surface->GetOutput()->GetNumberOfPolys() << " surfels, "
-            << surface->GetOutput()->GetNumberOfPoints() << " points -> " << path
-            << " (input " << ms(t0, t1) << " ms, surface " << ms(t1, t2) << " ms, write "
-            << ms(t2, t3) << " ms)\n";
+  volume->GetDimensions(dims);
+  std::ostringstream stages;
+  double total = 0;
+  for (const auto& s : times)
+  {
+    stages << (total > 0 || &s != &times.front() ? ", " : "") << s.first << " " << std::fixed;
+    stages.precision(3);
+    stages << s.second << " s";
+    total += s.second;
+  }
+  std::cout << Program << ": " << (opt.Input.empty() ? "built-in shape" : opt.Input) << " "
+            << dims[0] << "x" << dims[1] << "x" << dims[2] << ": "
+            << surface->GetOutput()->GetNumberOfPolys() << " surfels, "
+            << features->GetNumberOfLines() << " feature edges\n"
+            << "  time: " << stages.str() << " (total " << total << " s); peak memory "
+            << static_cast<long>(PeakMemoryMiB()) << " MiB\n";
+  for (const auto& f : files.Finals)
+    std::cout << "  wrote " << f << "\n";
   return 0;
 }

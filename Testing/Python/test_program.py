@@ -1,0 +1,253 @@
+"""The command-line program: every reader path on files written here, bad
+input (one-line error, exit status, no partial output), the noise option,
+and a picture that is not blank."""
+import glob
+import os
+import shutil
+import struct
+import subprocess
+import sys
+import tempfile
+import zlib
+
+from vtkmodules.vtkCommonDataModel import vtkImageData
+from vtkmodules.vtkCommonCore import vtkUnsignedCharArray
+from vtkmodules.vtkIOImage import vtkMetaImageWriter, vtkPNGReader
+from vtkmodules.vtkIOXML import vtkXMLImageDataWriter, vtkXMLPolyDataReader
+
+PROGRAM = os.environ["DG_PROGRAM"]
+ROOT = tempfile.mkdtemp(prefix="dg_program_", dir=os.environ.get("DG_TEST_TMP"))
+failures, checks = [], []
+
+
+def check(cond, what):
+    checks.append(what)
+    print(("ok   " if cond else "FAIL ") + what)
+    if not cond:
+        failures.append(what)
+
+
+def run(*args, out=None):
+    out = out or tempfile.mkdtemp(dir=ROOT)
+    p = subprocess.run([PROGRAM, "--quiet", "--output-dir", out] + list(args),
+                       capture_output=True, text=True, timeout=600)
+    return p, out
+
+
+# A small two-label volume: a box (label 3) and a ball (label 7).
+N = 28
+
+
+def value(i, j, k):
+    if 4 <= i <= 12 and 5 <= j <= 20 and 6 <= k <= 21:
+        return 3
+    if (i - 19.3) ** 2 + (j - 14.1) ** 2 + (k - 13.7) ** 2 <= 36:
+        return 7
+    return 0
+
+
+voxels = bytes(value(i, j, k) for k in range(N) for j in range(N) for i in range(N))
+
+
+def vol_bytes(version):
+    header = "".join("%s: %s\n" % kv for kv in [
+        ("Center-X", N // 2), ("Center-Y", N // 2), ("Center-Z", N // 2),
+        ("X", N), ("Y", N), ("Z", N), ("Voxel-Size", 1), ("Alpha-Color", 0),
+        ("Voxel-Endian", 0), ("Int-Endian", "0123"), ("Version", version)]) + ".\n"
+    data = voxels if version == 2 else zlib.compress(voxels)
+    return header.encode() + data
+
+
+def write(name, data):
+    path = os.path.join(ROOT, name)
+    with open(path, "wb") as f:
+        f.write(data)
+    return path
+
+
+image = vtkImageData()
+image.SetDimensions(N, N, N)
+arr = vtkUnsignedCharArray()
+arr.SetName("labels")
+arr.SetNumberOfValues(len(voxels))
+for n, b in enumerate(voxels):
+    arr.SetValue(n, b)
+image.GetPointData().SetScalars(arr)
+
+inputs = {
+    "v2.vol": write("v2.vol", vol_bytes(2)),
+    "v3.vol": write("v3.vol", vol_bytes(3)),
+}
+w = vtkXMLImageDataWriter()
+w.SetInputData(image)
+inputs["vti"] = os.path.join(ROOT, "labels.vti")
+w.SetFileName(inputs["vti"])
+w.Write()
+m = vtkMetaImageWriter()
+m.SetInputData(image)
+inputs["mha"] = os.path.join(ROOT, "labels.mha")
+m.SetFileName(inputs["mha"])
+m.SetCompression(False)
+m.Write()
+m2 = vtkMetaImageWriter()
+m2.SetInputData(image)
+inputs["mhd"] = os.path.join(ROOT, "labels.mhd")
+m2.SetFileName(inputs["mhd"])
+m2.SetRAWFileName(os.path.join(ROOT, "labels.raw"))
+m2.SetCompression(False)
+m2.Write()
+nrrd_header = ("NRRD0004\ntype: uint8\ndimension: 3\nsizes: %d %d %d\n"
+               "spacings: 1 1 1\nencoding: raw\n" % (N, N, N))
+inputs["nrrd"] = write("labels.nrrd", (nrrd_header + "\n").encode() + voxels)
+write("labels_detached.raw", voxels)
+inputs["nhdr"] = write("labels.nhdr", (nrrd_header + "data file: labels_detached.raw\n\n").encode())
+
+
+def write_dicom_series(folder):
+    """One CT-like slice per z (uint16, label 3 -> 1000), explicit VR little endian."""
+    import pydicom
+    from pydicom.dataset import FileDataset, FileMetaDataset
+    from pydicom.uid import ExplicitVRLittleEndian, generate_uid
+    os.makedirs(folder, exist_ok=True)
+    series = generate_uid()
+    for k in range(N):
+        meta = FileMetaDataset()
+        meta.MediaStorageSOPClassUID = "1.2.840.10008.5.1.4.1.1.2"
+        meta.MediaStorageSOPInstanceUID = generate_uid()
+        meta.TransferSyntaxUID = ExplicitVRLittleEndian
+        name = os.path.join(folder, "slice%03d.dcm" % k)
+        ds = FileDataset(name, {}, file_meta=meta, preamble=b"\0" * 128)
+        ds.is_little_endian = True
+        ds.is_implicit_VR = False
+        ds.SOPClassUID = meta.MediaStorageSOPClassUID
+        ds.SOPInstanceUID = meta.MediaStorageSOPInstanceUID
+        ds.SeriesInstanceUID = series
+        ds.Modality = "CT"
+        ds.InstanceNumber = k + 1
+        ds.ImagePositionPatient = [0.0, 0.0, float(k)]
+        ds.ImageOrientationPatient = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+        ds.PixelSpacing = [1.0, 1.0]
+        ds.SliceThickness = 1.0
+        ds.Rows = N
+        ds.Columns = N
+        ds.SamplesPerPixel = 1
+        ds.PhotometricInterpretation = "MONOCHROME2"
+        ds.BitsAllocated = 16
+        ds.BitsStored = 16
+        ds.HighBit = 15
+        ds.PixelRepresentation = 0
+        ds.RescaleIntercept = 0
+        ds.RescaleSlope = 1
+        plane = bytearray()
+        for j in range(N):
+            for i in range(N):
+                plane += struct.pack("<H", 1000 if value(i, j, k) == 3 else 0)
+        ds.PixelData = bytes(plane)
+        ds.save_as(name, write_like_original=False)
+
+
+def surfels(out, prefix):
+    r = vtkXMLPolyDataReader()
+    r.SetFileName(os.path.join(out, prefix + "_surface.vtp"))
+    r.Update()
+    return r.GetOutput().GetNumberOfPolys()
+
+
+try:
+    write_dicom_series(os.path.join(ROOT, "dicom"))
+    inputs["dicom"] = os.path.join(ROOT, "dicom")
+except ImportError:
+    print("skip DICOM: python3-pydicom absent")
+
+counts = {}
+for kind, path in inputs.items():
+    label = ["--range", "500", "2000"] if kind == "dicom" else ["--label", "3"]
+    p, out = run(path, "--no-png", *label)
+    stem = os.path.splitext(os.path.basename(path))[0]
+    ok = p.returncode == 0 and os.path.exists(os.path.join(out, stem + "_features.vtp"))
+    check(ok, "reads %s (exit %d) %s" % (kind, p.returncode, p.stderr.strip()[:200]))
+    if ok:
+        counts[kind] = surfels(out, stem)
+# The box of label 3 is 9 x 16 x 16 voxels: 2 (144 + 144 + 256) surfels.
+expected = 2 * (9 * 16 + 9 * 16 + 16 * 16)
+check(len(counts) == len(inputs) and all(c == expected for c in counts.values()),
+      "every reader gives the box's %d surfels: %s" % (expected, counts))
+
+# Real data when ../shared is present.
+real = os.path.join(os.environ.get("DG_SHARED_DATA_DIR", ""), "fandisk-64.vol")
+if os.path.exists(real):
+    p, out = run(real, "--no-png")
+    check(p.returncode == 0 and surfels(out, "fandisk-64") > 1000, "reads fandisk-64.vol")
+else:
+    print("skip real .vol file: ../shared absent")
+
+# Bad input: one line on stderr, non-zero exit, nothing left in the output folder.
+trunc = vol_bytes(3)
+bad_cases = [
+    ("missing file", [os.path.join(ROOT, "nope.vol")], 1),
+    ("unknown extension", [write("x.xyz", b"hello")], 1),
+    ("truncated .vol", [write("trunc.vol", trunc[: len(trunc) // 2])], 1),
+    ("corrupt .vol header", [write("corrupt.vol", b"X: 2\nY: two\nZ: 2\nVersion: 2\n.\n" + bytes(8))], 1),
+    ("truncated .nrrd", [write("trunc.nrrd", (nrrd_header + "\n").encode() + voxels[:100])], 1),
+    ("no inside voxel", [write("empty.vol", vol_bytes(2)[: -len(voxels)] + bytes(len(voxels)))], 1),
+    ("label that does not occur", [inputs["v2.vol"], "--label", "99"], 1),
+    ("negative alpha", ["--alpha", "-1"], 2),
+    ("zero lambda", ["--lambda", "0"], 2),
+    ("eps end above start", ["--eps-start", "0.5", "--eps-end", "1"], 2),
+    ("ratio 1", ["--eps-ratio", "1"], 2),
+    ("zero iterations", ["--iterations", "0"], 2),
+    ("negative radius", ["--radius", "-2"], 2),
+    ("noise above 1", ["--noise", "1.5"], 2),
+    ("not a number", ["--alpha", "abc"], 2),
+    ("unknown option", ["--frobnicate"], 2),
+]
+for what, args, status in bad_cases:
+    p, out = run(*args)
+    lines = [l for l in p.stderr.strip().splitlines() if l.strip()]
+    left = os.listdir(out)
+    check(p.returncode == status and len(lines) >= 1 and lines[-1].startswith("piecewise-normals:")
+          and not left,
+          "%s: exit %d (want %d), message %r, files left %s" %
+          (what, p.returncode, status, lines[-1] if lines else "", left))
+
+# Noise: repeatable with a seed, different with another.
+a, out_a = run(inputs["v2.vol"], "--noise", "0.3", "--seed", "4", "--no-png", "--prefix", "n")
+b, out_b = run(inputs["v2.vol"], "--noise", "0.3", "--seed", "4", "--no-png", "--prefix", "n")
+c, out_c = run(inputs["v2.vol"], "--noise", "0.3", "--seed", "5", "--no-png", "--prefix", "n")
+if a.returncode == 0 and b.returncode == 0 and c.returncode == 0:
+    with open(os.path.join(out_a, "n_surface.vtp"), "rb") as fa, open(os.path.join(out_b, "n_surface.vtp"), "rb") as fb:
+        check(fa.read() == fb.read(), "same seed, same output file")
+    with open(os.path.join(out_a, "n_surface.vtp"), "rb") as fa, open(os.path.join(out_c, "n_surface.vtp"), "rb") as fc:
+        check(fa.read() != fc.read(), "another seed, another output file")
+else:
+    check(False, "noise runs: %s %s %s" % (a.stderr, b.stderr, c.stderr))
+
+# The picture: the built-in shape, panels off; the object covers a sensible
+# share of the image and red feature pixels are present.
+p, out = run("--size", "48", "--width", "400", "--height", "300")
+png = os.path.join(out, "builtin.png")
+check(p.returncode == 0 and os.path.exists(png), "built-in shape with picture: %s" % p.stderr.strip()[-300:])
+if os.path.exists(png):
+    r = vtkPNGReader()
+    r.SetFileName(png)
+    r.Update()
+    img = r.GetOutput()
+    dims = img.GetDimensions()
+    s = img.GetPointData().GetScalars()
+    nc = s.GetNumberOfComponents()
+    total = dims[0] * dims[1]
+    obj = red = 0
+    for n in range(total):
+        t = s.GetTuple(n)
+        if not (t[0] > 250 and t[1] > 250 and t[2] > 250):
+            obj += 1
+        if t[0] > 150 and t[1] < 80 and t[2] < 80:
+            red += 1
+    check(0.05 < obj / total < 0.9, "object covers %.1f%% of the picture" % (100.0 * obj / total))
+    check(red > 50, "%d red feature pixels" % red)
+    check("surfels" in p.stdout and "feature edges" in p.stdout and "peak memory" in p.stdout,
+          "summary printed: %r" % p.stdout[:300])
+
+shutil.rmtree(ROOT, ignore_errors=True)
+print("%d passed, %d failed" % (len(checks) - len(failures), len(failures)))
+sys.exit(1 if failures else 0)
