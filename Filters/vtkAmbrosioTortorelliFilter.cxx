@@ -79,6 +79,15 @@ int vtkAmbrosioTortorelliFilter::RequestData(
   }
   int association = -1;
   vtkDataArray* field = this->GetInputArrayToProcess(0, input, association);
+  vtkInformation* arrayInfo = this->GetInputArrayInformation(0);
+  if (!field && arrayInfo && arrayInfo->Has(vtkDataObject::FIELD_NAME()) &&
+    !*arrayInfo->Get(vtkDataObject::FIELD_NAME()))
+  {
+    // ParaView sends an empty name until it knows the input's arrays: that
+    // means the default, the active cell normals.
+    field = input->GetCellData()->GetNormals();
+    association = vtkDataObject::FIELD_ASSOCIATION_CELLS;
+  }
   if (!field)
   {
     vtkErrorMacro("No field to regularise: the input has no cell array matching the selection "
