@@ -32,8 +32,10 @@ vtkSmartPointer<vtkActor> SurfaceActor(vtkPolyData* surface, vtkDataArray* norma
   vtkNew<vtkPolyDataMapper> mapper;
   mapper->SetInputData(shaded);
   mapper->ScalarVisibilityOff();
-  // Feature lines lie exactly on the surface: push the polygons back.
+  // Feature lines lie on the surface, often in the concave corners of its
+  // staircase: push the polygons well back so that the lines stay visible.
   mapper->SetResolveCoincidentTopologyToPolygonOffset();
+  mapper->SetRelativeCoincidentTopologyPolygonOffsetParameters(0.0, 0.0);
   auto actor = vtkSmartPointer<vtkActor>::New();
   actor->SetMapper(mapper);
   actor->GetProperty()->SetColor(0.86, 0.87, 0.92);
@@ -47,6 +49,7 @@ vtkSmartPointer<vtkActor> FeatureActor(vtkPolyData* features, double lineWidth)
   vtkNew<vtkPolyDataMapper> mapper;
   mapper->SetInputData(features);
   mapper->ScalarVisibilityOff();
+  mapper->SetRelativeCoincidentTopologyLineOffsetParameters(-2.0, -150.0);
   auto actor = vtkSmartPointer<vtkActor>::New();
   actor->SetMapper(mapper);
   actor->GetProperty()->SetColor(0.9, 0.05, 0.05);
@@ -86,7 +89,7 @@ bool RenderPicture(vtkPolyData* surface, const char* inputNormals, vtkPolyData* 
   vtkNew<vtkCamera> camera;
   vtkDataArray* input = inputNormals ? surface->GetCellData()->GetArray(inputNormals) : nullptr;
   const bool hasFeatures = features && features->GetNumberOfCells() > 0;
-  const double lineWidth = std::max(2.0, height / 300.0);
+  const double lineWidth = std::max(3.0, height / 200.0);
 
   std::vector<vtkSmartPointer<vtkRenderer>> renderers;
   auto addRenderer = [&](double x0, double x1) {
