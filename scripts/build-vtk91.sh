@@ -23,6 +23,7 @@ fi
 if [ ! -f "$ROOTFS/.unpacked" ]; then
   rm -rf "$ROOTFS" "$OUT/deb"
   mkdir -p "$ROOTFS" "$OUT/deb"
+  chmod a+rwx "$OUT/deb" # apt downloads as its _apt user when it can
   (cd "$OUT/deb" && apt-get download libvtk9-dev python3-vtk9 > /dev/null)
   for deb in "$OUT"/deb/*.deb; do dpkg -x "$deb" "$ROOTFS"; done
   ln -sf "$ARCH_LIB"/libvtk*-9.1.so.* "$ROOTFS$ARCH_LIB/"
