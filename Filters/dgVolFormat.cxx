@@ -174,6 +174,17 @@ bool ParseVol(const std::uint8_t* bytes, std::size_t size, VolHeader& header,
   }
 
   // Version 3: exactly one zlib stream that inflates to exactly count bytes.
+  // Deflate cannot expand data more than 1032:1, so a header promising more
+  // than that is refused before anything is allocated: a 100-byte file must
+  // not make the reader allocate gigabytes (found by fuzzing).
+  if (count > static_cast<std::uint64_t>(available) * 1032 + 1024)
+  {
+    std::ostringstream msg;
+    msg << "zlib stream of " << available << " bytes cannot hold the " << count
+        << " voxels of the header's dimensions (truncated file?)";
+    error = msg.str();
+    return false;
+  }
   // zlib counts in uInt, so input and output are handed over in chunks.
   voxels->assign(static_cast<std::size_t>(count), 0);
   z_stream zs;

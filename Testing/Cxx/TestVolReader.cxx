@@ -229,4 +229,16 @@ TEST(VolReader, CorruptFilesFailCleanly)
   WriteBytes(path, c);
   ExpectReaderFails(path, "flipped zlib header byte");
   ExpectReaderFails(TempPath("does-not-exist.vol"), "missing file");
+
+  // Found by fuzzing: a tiny zlib stream under a header promising billions
+  // of voxels must be refused before any allocation.
+  std::string huge = "X: 4\nY: 2\nZ: 888888888\nVersion: 3\n.\n";
+  std::vector<std::uint8_t> hugeBytes(huge.begin(), huge.end());
+  hugeBytes.insert(hugeBytes.end(), v3.begin() + z0, v3.end());
+  dg::VolHeader h;
+  std::vector<std::uint8_t> out;
+  std::string err;
+  EXPECT_FALSE(dg::ParseVol(hugeBytes.data(), hugeBytes.size(), h, &out, err));
+  EXPECT_NE(err.find("cannot hold"), std::string::npos) << err;
+  EXPECT_LT(out.capacity(), std::size_t(1) << 20);
 }
