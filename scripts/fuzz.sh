@@ -14,6 +14,17 @@ FLAGS=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recov
   -I"$DG_ROOT/Filters" -I"$VTK_INC")
 clang++ "${FLAGS[@]}" "$DG_ROOT/Testing/Fuzz/fuzz_vol.cxx" "$DG_ROOT/Filters/dgVolFormat.cxx" \
   -lz -o "$OUT/fuzz_vol"
+# The filters' target compiles the module's sources with the fuzzer's
+# instrumentation and links ParaView's VTK; the export header comes from a
+# configured build tree.
+GEN="$DG_ROOT/build/Filters"
+if [ -f "$GEN/vtkDigitalGeometryModule.h" ]; then
+  clang++ "${FLAGS[@]}" -I"$GEN" -I/usr/include/eigen3 -DNDEBUG \
+    "$DG_ROOT/Testing/Fuzz/fuzz_filters.cxx" "$DG_ROOT"/Filters/*.cxx \
+    -L/usr/lib/$(gcc -print-multiarch) -lvtkCommonCore-pv5.11 -lvtkCommonDataModel-pv5.11 \
+    -lvtkCommonExecutionModel-pv5.11 -lvtkCommonMath-pv5.11 -lvtkCommonSystem-pv5.11 \
+    -lvtkCommonMisc-pv5.11 -lvtksys-pv5.11 -lz -o "$OUT/fuzz_filters"
+fi
 status=0
 run() {
   local name="$1" corpus="$2"
@@ -26,4 +37,7 @@ run() {
   grep -E "stat::number_of_executed_units|stat::peak_rss_mb" "$OUT/$name.log" || true
 }
 run fuzz_vol "$DG_ROOT/Testing/Fuzz/corpus_vol"
+if [ -x "$OUT/fuzz_filters" ]; then
+  run fuzz_filters "$DG_ROOT/Testing/Fuzz/corpus_filters"
+fi
 exit $status

@@ -1,0 +1,113 @@
+// libFuzzer target: small random voxel sets and random parameters through
+// vtkDigitalSurfaceFilter -> vtkIINormalEstimator -> vtkAmbrosioTortorelliFilter.
+// Any crash or sanitizer report fails; so does a non-finite or non-unit
+// normal in an output that was produced without an error.
+#include "vtkAmbrosioTortorelliFilter.h"
+#include "vtkDigitalSurfaceFilter.h"
+#include "vtkIINormalEstimator.h"
+
+#include <vtkCellData.h>
+#include <vtkCommand.h>
+#include <vtkDataArray.h>
+#include <vtkExecutive.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkUnsignedCharArray.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+
+namespace
+{
+class Quiet : public vtkCommand
+{
+public:
+  static Quiet* New() { return new Quiet; }
+  void Execute(vtkObject*, unsigned long, void*) override { this->Errors++; }
+  int Errors = 0;
+};
+
+struct Bytes
+{
+  const std::uint8_t* Data;
+  std::size_t Size, Pos = 0;
+  std::uint8_t Next() { return this->Pos < this->Size ? this->Data[this->Pos++] : 0; }
+};
+
+void CheckUnit(vtkDataArray* n)
+{
+  if (!n)
+  {
+    return;
+  }
+  for (vtkIdType c = 0; c < n->GetNumberOfTuples(); ++c)
+  {
+    double v[3];
+    n->GetTuple(c, v);
+    const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (!std::isfinite(len) || std::fabs(len - 1.0) > 1e-6)
+    {
+      std::abort();
+    }
+  }
+}
+} // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
+{
+  Bytes in{ data, size };
+  const int nx = 2 + in.Next() % 9, ny = 2 + in.Next() % 9, nz = 2 + in.Next() % 9;
+  const double radius = 0.25 * (in.Next() % 40) - 1.0; // -1 .. 8.75, some invalid
+  const double alpha = 0.01 * (static_cast<int>(in.Next()) - 20);
+  const double lambda = 0.001 * (static_cast<int>(in.Next()) - 20);
+  const double eps1 = 0.05 * in.Next(), eps2 = 0.05 * in.Next();
+  const double ratio = 1.0 + 0.05 * (static_cast<int>(in.Next()) - 20);
+  const int iterations = static_cast<int>(in.Next() % 7) - 1;
+
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(nx, ny, nz);
+  image->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
+  auto* s = vtkUnsignedCharArray::SafeDownCast(image->GetPointData()->GetScalars());
+  std::uint8_t bits = 0;
+  for (vtkIdType p = 0; p < s->GetNumberOfValues(); ++p)
+  {
+    if (p % 8 == 0)
+    {
+      bits = in.Next();
+    }
+    s->SetValue(p, (bits >> (p % 8)) & 1);
+  }
+
+  vtkNew<Quiet> quiet;
+  vtkNew<vtkDigitalSurfaceFilter> surface;
+  vtkNew<vtkIINormalEstimator> ii;
+  vtkNew<vtkAmbrosioTortorelliFilter> at;
+  for (vtkAlgorithm* a : { static_cast<vtkAlgorithm*>(surface.Get()),
+         static_cast<vtkAlgorithm*>(ii.Get()), static_cast<vtkAlgorithm*>(at.Get()) })
+  {
+    a->AddObserver(vtkCommand::ErrorEvent, quiet);
+    a->AddObserver(vtkCommand::WarningEvent, quiet);
+    a->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, quiet);
+  }
+  surface->SetInputData(image);
+  ii->SetInputConnection(surface->GetOutputPort());
+  ii->SetSourceData(image);
+  ii->SetRadius(radius);
+  at->SetInputConnection(ii->GetOutputPort());
+  at->SetAlpha(alpha);
+  at->SetLambda(lambda);
+  at->SetEpsilonStart(eps1);
+  at->SetEpsilonEnd(eps2);
+  at->SetEpsilonRatio(ratio);
+  at->SetMaximumIterations(iterations);
+  at->Update();
+  if (quiet->Errors == 0)
+  {
+    CheckUnit(ii->GetOutput()->GetCellData()->GetArray("IINormals"));
+    CheckUnit(at->GetOutput(0)->GetCellData()->GetArray("ATNormals"));
+  }
+  return 0;
+}
