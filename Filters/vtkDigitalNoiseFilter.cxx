@@ -48,12 +48,8 @@ int vtkDigitalNoiseFilter::RequestData(
     vtkErrorMacro("Input image is empty.");
     return 0;
   }
-  dg::VoxelSelection select;
-  select.Mode = this->SelectionMode;
-  select.Lower = this->LowerThreshold;
-  select.Upper = this->UpperThreshold;
-  select.LabelValue = this->Label;
-  select.Component = this->SelectedComponent;
+  const dg::VoxelSelection select{ this->SelectionMode, this->LowerThreshold,
+    this->UpperThreshold, this->Label, this->SelectedComponent };
   std::vector<std::uint8_t> inside(static_cast<std::size_t>(dims[0]) * dims[1] * dims[2]);
   std::int64_t count = 0;
   std::string error;

@@ -72,12 +72,8 @@ int vtkDigitalSurfaceFilter::RequestData(
   // 1. Selection mask.
   dg::PaddedMask mask;
   mask.Allocate(dims[0], dims[1], dims[2]);
-  dg::VoxelSelection select;
-  select.Mode = this->SelectionMode;
-  select.Lower = this->LowerThreshold;
-  select.Upper = this->UpperThreshold;
-  select.LabelValue = this->Label;
-  select.Component = this->SelectedComponent;
+  const dg::VoxelSelection select{ this->SelectionMode, this->LowerThreshold,
+    this->UpperThreshold, this->Label, this->SelectedComponent };
   std::int64_t insideCount = 0;
   std::string error;
   if (!dg::SelectVoxels(scalars, dims, select, mask.Data.data(), mask.RowLength(), 1, insideCount, error))

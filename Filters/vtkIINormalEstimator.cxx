@@ -246,12 +246,8 @@ int vtkIINormalEstimator::RequestData(
   {
     vtkDataArray* scalars = dg::SelectionArray(this->GetInputArrayToProcess(0, inputVector),
       this->GetInputArrayInformation(0), image);
-    dg::VoxelSelection select;
-    select.Mode = this->SelectionMode;
-    select.Lower = this->LowerThreshold;
-    select.Upper = this->UpperThreshold;
-    select.LabelValue = this->Label;
-    select.Component = this->SelectedComponent;
+    const dg::VoxelSelection select{ this->SelectionMode, this->LowerThreshold,
+      this->UpperThreshold, this->Label, this->SelectedComponent };
     std::vector<std::uint8_t> mask(static_cast<std::size_t>(dims[0]) * dims[1] * dims[2]);
     std::int64_t insideCount = 0;
     std::string error;
