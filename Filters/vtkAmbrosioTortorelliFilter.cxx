@@ -181,6 +181,26 @@ int vtkAmbrosioTortorelliFilter::RequestData(
   }
   offsets = std::vector<std::int64_t>();
   connectivity = std::vector<std::int64_t>();
+  // Two polygons of opposite winding across an edge make B compare u1 + u2
+  // instead of u1 - u2: the jump term is then meaningless there. Still
+  // compute (the rest of the surface is fine), but say so.
+  std::int64_t inconsistent = 0;
+  for (std::int64_t e = 0; e < complex.NumberOfEdges(); ++e)
+  {
+    const std::int64_t b = complex.EdgeFacePtr[e];
+    if (complex.EdgeFacePtr[e + 1] - b == 2 &&
+      complex.EdgeFaceSigns[b] == complex.EdgeFaceSigns[b + 1])
+    {
+      ++inconsistent;
+    }
+  }
+  if (inconsistent > 0)
+  {
+    vtkWarningMacro(<< inconsistent
+                    << " edges join two polygons of opposite winding: the surface is not "
+                       "consistently oriented and the result is unreliable near them (orient it "
+                       "first, e.g. vtkPolyDataNormals with ConsistencyOn).");
+  }
   this->UpdateProgress(0.1);
   if (this->GetAbortExecute())
   {

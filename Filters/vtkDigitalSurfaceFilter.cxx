@@ -87,6 +87,10 @@ int vtkDigitalSurfaceFilter::RequestData(
       << this->SelectionMode << "): the surface is empty.");
     return 0;
   }
+  if (insideCount == static_cast<std::int64_t>(dims[0]) * dims[1] * dims[2])
+  {
+    vtkWarningMacro("Every voxel is inside: the surface is the border of the image.");
+  }
   mask.UpdateRowBounds();
   this->UpdateProgress(0.3);
   if (this->GetAbortExecute())

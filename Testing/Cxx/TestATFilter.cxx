@@ -452,3 +452,56 @@ TEST(ATFilter, BadParametersAndInput)
     EXPECT_EQ(at->GetOutput()->GetNumberOfPolys(), good->GetNumberOfPolys());
   }
 }
+
+TEST(ATFilter, InconsistentWindingWarnsAndStillComputes)
+{
+  // A 3 x 3 grid of quads (4 x 4 points) with the centre quad reversed, and
+  // one isolated point and a non-manifold fin on the side: a warning, and a
+  // result for every polygon.
+  vtkNew<vtkPoints> pts;
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i)
+      pts->InsertNextPoint(i, j, 0);
+  const vtkIdType isolated = pts->InsertNextPoint(10, 10, 10);
+  (void)isolated;
+  const vtkIdType fin0 = pts->InsertNextPoint(0, 0, 1), fin1 = pts->InsertNextPoint(1, 0, 1);
+  vtkNew<vtkCellArray> polys;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i)
+    {
+      vtkIdType q[4] = { j * 4 + i, j * 4 + i + 1, (j + 1) * 4 + i + 1, (j + 1) * 4 + i };
+      if (i == 1 && j == 1)
+      {
+        std::swap(q[1], q[3]);
+      }
+      polys->InsertNextCell(4, q);
+    }
+  vtkIdType fin[4] = { 0, fin0, fin1, 1 };
+  polys->InsertNextCell(4, fin);
+  vtkNew<vtkPolyData> mesh;
+  mesh->SetPoints(pts);
+  mesh->SetPolys(polys);
+  vtkNew<vtkDoubleArray> g;
+  g->SetName("g");
+  g->SetNumberOfComponents(3);
+  for (int c = 0; c < 10; ++c)
+    g->InsertNextTuple3(0, 0, 1);
+  mesh->GetCellData()->SetNormals(g);
+  vtkNew<vtkAmbrosioTortorelliFilter> at;
+  vtkNew<dgtest::ErrorObserver> obs;
+  obs->Observe(at);
+  at->SetInputData(mesh);
+  at->Update();
+  EXPECT_EQ(obs->Errors, 0) << obs->Messages;
+  EXPECT_EQ(obs->Warnings, 1) << obs->Messages;
+  EXPECT_NE(obs->Messages.find("opposite winding"), std::string::npos) << obs->Messages;
+  vtkDataArray* u = at->GetOutput(0)->GetCellData()->GetArray("ATNormals");
+  ASSERT_NE(u, nullptr);
+  EXPECT_EQ(u->GetNumberOfTuples(), 10);
+  for (vtkIdType c = 0; c < u->GetNumberOfTuples(); ++c)
+  {
+    double n[3];
+    u->GetTuple(c, n);
+    EXPECT_TRUE(std::isfinite(n[0] + n[1] + n[2]));
+  }
+}

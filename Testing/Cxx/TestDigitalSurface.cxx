@@ -265,7 +265,12 @@ TEST(DigitalSurface, BlockTouchingTheImageBorderIsClosed)
 {
   // Everything beyond the extent is outside: a full image gives its border.
   auto image = dgtest::MakeImage(3, 4, 5, [](int, int, int) { return 1.0; });
-  auto pd = Extract(image);
+  vtkNew<vtkDigitalSurfaceFilter> f;
+  vtkNew<dgtest::ErrorObserver> obs;
+  obs->Observe(f);
+  auto pd = Extract(image, f);
+  EXPECT_EQ(obs->Warnings, 1) << "an all-inside image deserves a word";
+  EXPECT_EQ(obs->Errors, 0);
   EXPECT_EQ(pd->GetNumberOfPolys(), 2 * (3 * 4 + 4 * 5 + 3 * 5));
   EXPECT_EQ(EulerCharacteristic(pd), 2);
   CheckOrientation(image, pd);
