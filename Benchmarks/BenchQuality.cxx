@@ -92,7 +92,8 @@
 #include <string>
 #include <vector>
 
-namespace {
+namespace
+{
 using V3 = Eigen::Vector3d;
 using Clock = std::chrono::steady_clock;
 constexpr double NaN = std::numeric_limits<double>::quiet_NaN();
@@ -100,15 +101,18 @@ constexpr double NearEdge = 2.0;   // voxels
 constexpr double FarEdge = 8.0;    // voxels: beyond the largest II ball
 constexpr double FeatureTol = 1.5; // voxels
 
-double Seconds(Clock::time_point t0) {
+double Seconds(Clock::time_point t0)
+{
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-std::vector<std::string> Split(const std::string &s) {
+std::vector<std::string> Split(const std::string& s)
+{
   std::vector<std::string> out;
   std::stringstream ss(s);
   std::string item;
-  while (std::getline(ss, item, ',')) {
+  while (std::getline(ss, item, ','))
+  {
     if (!item.empty())
       out.push_back(item);
   }
@@ -117,8 +121,8 @@ std::vector<std::string> Split(const std::string &s) {
 
 // Shapes scaled to the grid size n; the centre is off the grid symmetry by a
 // small amount so that no digitisation is exactly symmetric.
-std::unique_ptr<dgtest::ImplicitShape> MakeShape(const std::string &name,
-                                                 int n) {
+std::unique_ptr<dgtest::ImplicitShape> MakeShape(const std::string& name, int n)
+{
   const V3 c = V3::Constant(0.5 * (n - 1)) + V3(0.13, 0.07, 0.11);
   if (name == "sphere")
     return dgtest::MakeSphere(c, 0.38 * n);
@@ -135,12 +139,14 @@ std::unique_ptr<dgtest::ImplicitShape> MakeShape(const std::string &name,
   return nullptr;
 }
 
-struct Stats {
+struct Stats
+{
   std::size_t Count = 0;
   double Mean = NaN, Median = NaN, P95 = NaN;
 };
 
-Stats Compute(std::vector<double> e) {
+Stats Compute(std::vector<double> e)
+{
   Stats s;
   s.Count = e.size();
   if (e.empty())
@@ -150,7 +156,8 @@ Stats Compute(std::vector<double> e) {
     sum += x;
   s.Mean = sum / e.size();
   std::sort(e.begin(), e.end());
-  auto q = [&](double p) {
+  auto q = [&](double p)
+  {
     const double pos = p * (e.size() - 1);
     const std::size_t i = static_cast<std::size_t>(std::floor(pos));
     const double f = pos - i;
@@ -162,42 +169,48 @@ Stats Compute(std::vector<double> e) {
 }
 
 // Per-cell ground truth: true normal and near/away flag.
-struct Truth {
+struct Truth
+{
   std::vector<V3> Normal;
   std::vector<double> EdgeDistance; // capped: any value > FarEdge means "far"
 };
 
-Truth MakeTruth(const dgtest::ImplicitShape &shape,
-                const std::vector<V3> &centres) {
+Truth MakeTruth(const dgtest::ImplicitShape& shape, const std::vector<V3>& centres)
+{
   Truth t;
   t.Normal.resize(centres.size());
   t.EdgeDistance.resize(centres.size());
-  vtkSMPTools::For(
-      0, static_cast<vtkIdType>(centres.size()), [&](vtkIdType b, vtkIdType e) {
-        for (vtkIdType i = b; i < e; ++i) {
-          // Near/away is decided on the centre projected onto the true surface
-          // along the true normal (exact for planes and spheres; for CSG shapes
-          // it lands on the active part): a smoothed mesh that has pulled its
-          // cells in from a corner is still judged by where they belong.
-          const V3 n = shape.Normal(centres[i]);
-          t.Normal[i] = n;
-          const V3 onSurface = centres[i] - shape.Value(centres[i]) * n;
-          t.EdgeDistance[i] =
-              shape.DistanceToSharpEdge(onSurface, FarEdge + 1.0);
-        }
-      });
+  vtkSMPTools::For(0,
+    static_cast<vtkIdType>(centres.size()),
+    [&](vtkIdType b, vtkIdType e)
+    {
+      for (vtkIdType i = b; i < e; ++i)
+      {
+        // Near/away is decided on the centre projected onto the true surface
+        // along the true normal (exact for planes and spheres; for CSG shapes
+        // it lands on the active part): a smoothed mesh that has pulled its
+        // cells in from a corner is still judged by where they belong.
+        const V3 n = shape.Normal(centres[i]);
+        t.Normal[i] = n;
+        const V3 onSurface = centres[i] - shape.Value(centres[i]) * n;
+        t.EdgeDistance[i] = shape.DistanceToSharpEdge(onSurface, FarEdge + 1.0);
+      }
+    });
   return t;
 }
 
-std::vector<V3> Normals(vtkPolyData *pd, const char *name) {
+std::vector<V3> Normals(vtkPolyData* pd, const char* name)
+{
   std::vector<V3> out;
-  vtkDataArray *a = pd ? pd->GetCellData()->GetArray(name) : nullptr;
-  if (!a) {
+  vtkDataArray* a = pd ? pd->GetCellData()->GetArray(name) : nullptr;
+  if (!a)
+  {
     std::fprintf(stderr, "missing cell array %s\n", name);
     return out;
   }
   out.resize(a->GetNumberOfTuples());
-  for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i) {
+  for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i)
+  {
     double v[3];
     a->GetTuple(i, v);
     out[i] = V3(v[0], v[1], v[2]);
@@ -205,29 +218,40 @@ std::vector<V3> Normals(vtkPolyData *pd, const char *name) {
   return out;
 }
 
-struct Row {
+struct Row
+{
   std::string Shape;
   int N;
   double K;
   int Seed;
 };
 
-struct Output {
+struct Output
+{
   std::ofstream NormalsCsv, FeaturesCsv, TimesCsv;
   bool CheckFailed = false;
 };
 
-void WriteErrors(Output &out, const Row &row, const std::string &method,
-                 const Truth &truth, const std::vector<V3> &normals,
-                 std::map<std::string, Stats> *keep = nullptr) {
+void WriteErrors(Output& out,
+  const Row& row,
+  const std::string& method,
+  const Truth& truth,
+  const std::vector<V3>& normals,
+  std::map<std::string, Stats>* keep = nullptr)
+{
   std::vector<double> all, nearE, away, mid, far;
-  if (normals.size() != truth.Normal.size()) {
-    std::fprintf(stderr, "%s: %zu normals for %zu cells\n", method.c_str(),
-                 normals.size(), truth.Normal.size());
+  if (normals.size() != truth.Normal.size())
+  {
+    std::fprintf(stderr,
+      "%s: %zu normals for %zu cells\n",
+      method.c_str(),
+      normals.size(),
+      truth.Normal.size());
     out.CheckFailed = true;
     return;
   }
-  for (std::size_t i = 0; i < normals.size(); ++i) {
+  for (std::size_t i = 0; i < normals.size(); ++i)
+  {
     const double a = dgtest::AngleDegrees(normals[i], truth.Normal[i]);
     all.push_back(a);
     const double d = truth.EdgeDistance[i];
@@ -235,41 +259,42 @@ void WriteErrors(Output &out, const Row &row, const std::string &method,
     if (d > NearEdge)
       (d <= FarEdge ? mid : far).push_back(a);
   }
-  const std::pair<const char *, std::vector<double> *> regions[] = {
-      {"all", &all},
-      {"near", &nearE},
-      {"away", &away},
-      {"mid", &mid},
-      {"far", &far}};
-  for (const auto &r : regions) {
+  const std::pair<const char*, std::vector<double>*> regions[] = {
+    { "all", &all }, { "near", &nearE }, { "away", &away }, { "mid", &mid }, { "far", &far }
+  };
+  for (const auto& r : regions)
+  {
     const Stats s = Compute(*r.second);
-    out.NormalsCsv << row.Shape << ',' << row.N << ',' << row.K << ','
-                   << row.Seed << ',' << method << ',' << r.first << ','
-                   << s.Count << ',' << s.Mean << ',' << s.Median << ','
+    out.NormalsCsv << row.Shape << ',' << row.N << ',' << row.K << ',' << row.Seed << ',' << method
+                   << ',' << r.first << ',' << s.Count << ',' << s.Mean << ',' << s.Median << ','
                    << s.P95 << '\n';
     if (keep)
       (*keep)[r.first] = s;
   }
 }
 
-struct FeatureScore {
+struct FeatureScore
+{
   double Length = 0, Precision = NaN, Recall = NaN, F1 = NaN;
   int Iterations = 0; // AT: (u, v) step pairs made
 };
 
 // Line cells of `lines` (2-point segments or polylines) against the shape's
 // sharp edges.
-FeatureScore ScoreFeatures(vtkPolyData *lines,
-                           const dgtest::ImplicitShape &shape) {
+FeatureScore ScoreFeatures(vtkPolyData* lines, const dgtest::ImplicitShape& shape)
+{
   FeatureScore f;
   dgtest::PolylineDistance detected;
   double within = 0;
   const bool hasEdges = shape.SharpEdges().Size() > 0;
-  vtkCellArray *ca = lines ? lines->GetLines() : nullptr;
-  if (ca) {
+  vtkCellArray* ca = lines ? lines->GetLines() : nullptr;
+  if (ca)
+  {
     vtkNew<vtkIdList> ids;
-    for (ca->InitTraversal(); ca->GetNextCell(ids);) {
-      for (vtkIdType j = 0; j + 1 < ids->GetNumberOfIds(); ++j) {
+    for (ca->InitTraversal(); ca->GetNextCell(ids);)
+    {
+      for (vtkIdType j = 0; j + 1 < ids->GetNumberOfIds(); ++j)
+      {
         double pa[3], pb[3];
         lines->GetPoint(ids->GetId(j), pa);
         lines->GetPoint(ids->GetId(j + 1), pb);
@@ -277,10 +302,12 @@ FeatureScore ScoreFeatures(vtkPolyData *lines,
         const double l = (b - a).norm();
         f.Length += l;
         detected.AddSegment(a, b);
-        if (hasEdges && l > 0) {
+        if (hasEdges && l > 0)
+        {
           const int m = std::max(1, static_cast<int>(std::ceil(l / 0.1)));
           int ok = 0;
-          for (int t = 0; t < m; ++t) {
+          for (int t = 0; t < m; ++t)
+          {
             const V3 p = a + (b - a) * ((t + 0.5) / m);
             ok += shape.DistanceToSharpEdge(p, 2 * FeatureTol) <= FeatureTol;
           }
@@ -294,9 +321,9 @@ FeatureScore ScoreFeatures(vtkPolyData *lines,
   f.Precision = f.Length > 0 ? within / f.Length : NaN;
   const auto samples = shape.SharpEdgeSamples(0.25);
   std::size_t hit = 0;
-  for (const auto &p : samples) {
-    hit +=
-        detected.Size() && detected.Distance(p, 2 * FeatureTol) <= FeatureTol;
+  for (const auto& p : samples)
+  {
+    hit += detected.Size() && detected.Distance(p, 2 * FeatureTol) <= FeatureTol;
   }
   f.Recall = samples.empty() ? NaN : double(hit) / samples.size();
   const double p = std::isnan(f.Precision) ? 0.0 : f.Precision;
@@ -304,27 +331,29 @@ FeatureScore ScoreFeatures(vtkPolyData *lines,
   return f;
 }
 
-void WriteFeatures(Output &out, const Row &row, const std::string &method,
-                   const FeatureScore &f) {
-  out.FeaturesCsv << row.Shape << ',' << row.N << ',' << row.K << ','
-                  << row.Seed << ',' << method << ',' << f.Length << ','
-                  << f.Precision << ',' << f.Recall << ',' << f.F1 << ','
+void WriteFeatures(Output& out, const Row& row, const std::string& method, const FeatureScore& f)
+{
+  out.FeaturesCsv << row.Shape << ',' << row.N << ',' << row.K << ',' << row.Seed << ',' << method
+                  << ',' << f.Length << ',' << f.Precision << ',' << f.Recall << ',' << f.F1 << ','
                   << f.Iterations << '\n';
 }
 
-void WriteTime(Output &out, const Row &row, const std::string &stage, double s,
-               vtkIdType cells) {
-  out.TimesCsv << row.Shape << ',' << row.N << ',' << row.K << ',' << row.Seed
-               << ',' << stage << ',' << s << ',' << cells << '\n';
+void WriteTime(Output& out, const Row& row, const std::string& stage, double s, vtkIdType cells)
+{
+  out.TimesCsv << row.Shape << ',' << row.N << ',' << row.K << ',' << row.Seed << ',' << stage
+               << ',' << s << ',' << cells << '\n';
 }
 
-std::vector<V3> CellCentres(vtkPolyData *pd) {
+std::vector<V3> CellCentres(vtkPolyData* pd)
+{
   std::vector<V3> c(pd->GetNumberOfCells());
   vtkNew<vtkIdList> ids;
-  for (vtkIdType i = 0; i < pd->GetNumberOfCells(); ++i) {
+  for (vtkIdType i = 0; i < pd->GetNumberOfCells(); ++i)
+  {
     pd->GetCellPoints(i, ids);
     V3 s = V3::Zero();
-    for (vtkIdType j = 0; j < ids->GetNumberOfIds(); ++j) {
+    for (vtkIdType j = 0; j < ids->GetNumberOfIds(); ++j)
+    {
       double p[3];
       pd->GetPoint(ids->GetId(j), p);
       s += V3(p[0], p[1], p[2]);
@@ -334,14 +363,19 @@ std::vector<V3> CellCentres(vtkPolyData *pd) {
   return c;
 }
 
-struct CaseResult {
-  std::map<std::string, std::map<std::string, Stats>>
-      Errors; // method -> region -> stats
+struct CaseResult
+{
+  std::map<std::string, std::map<std::string, Stats>> Errors; // method -> region -> stats
   std::map<std::string, FeatureScore> Features;
 };
 
-void RunVTK(Output &out, const dgtest::ImplicitShape &shape,
-            vtkImageData *image, const Row &row, bool strong, CaseResult &res) {
+void RunVTK(Output& out,
+  const dgtest::ImplicitShape& shape,
+  vtkImageData* image,
+  const Row& row,
+  bool strong,
+  CaseResult& res)
+{
   const bool largest = strong;
   const std::string name = strong ? "VTK-strong" : "VTK";
   auto t0 = Clock::now();
@@ -352,18 +386,18 @@ void RunVTK(Output &out, const dgtest::ImplicitShape &shape,
   fe->ComputeGradientsOff();
   fe->ComputeScalarsOff();
   fe->Update();
-  WriteTime(out, row, name + " flying edges", Seconds(t0),
-            fe->GetOutput()->GetNumberOfPolys());
-  vtkAlgorithm *last = fe;
+  WriteTime(out, row, name + " flying edges", Seconds(t0), fe->GetOutput()->GetNumberOfPolys());
+  vtkAlgorithm* last = fe;
 
   vtkNew<vtkPolyDataConnectivityFilter> conn;
-  if (largest) {
+  if (largest)
+  {
     t0 = Clock::now();
     conn->SetInputConnection(fe->GetOutputPort());
     conn->SetExtractionModeToLargestRegion();
     conn->Update();
-    WriteTime(out, row, name + " largest component", Seconds(t0),
-              conn->GetOutput()->GetNumberOfPolys());
+    WriteTime(
+      out, row, name + " largest component", Seconds(t0), conn->GetOutput()->GetNumberOfPolys());
     last = conn;
   }
 
@@ -377,8 +411,7 @@ void RunVTK(Output &out, const dgtest::ImplicitShape &shape,
   sinc->NonManifoldSmoothingOn();
   sinc->NormalizeCoordinatesOn();
   sinc->Update();
-  WriteTime(out, row, name + " windowed sinc", Seconds(t0),
-            sinc->GetOutput()->GetNumberOfPolys());
+  WriteTime(out, row, name + " windowed sinc", Seconds(t0), sinc->GetOutput()->GetNumberOfPolys());
 
   t0 = Clock::now();
   vtkNew<vtkPolyDataNormals> pn;
@@ -388,7 +421,7 @@ void RunVTK(Output &out, const dgtest::ImplicitShape &shape,
   pn->ComputeCellNormalsOn();
   pn->ComputePointNormalsOff();
   pn->Update();
-  vtkPolyData *mesh = pn->GetOutput();
+  vtkPolyData* mesh = pn->GetOutput();
   WriteTime(out, row, name + " normals", Seconds(t0), mesh->GetNumberOfPolys());
   {
     const auto c = CellCentres(mesh);
@@ -398,7 +431,7 @@ void RunVTK(Output &out, const dgtest::ImplicitShape &shape,
     for (std::size_t i = 0; i < n.size(); ++i)
       agree += n[i].dot(t.Normal[i]) >= 0 ? 1 : -1;
     if (agree < 0)
-      for (auto &v : n)
+      for (auto& v : n)
         v = -v;
     WriteErrors(out, row, name, t, n, &res.Errors[name]);
   }
@@ -413,30 +446,35 @@ void RunVTK(Output &out, const dgtest::ImplicitShape &shape,
   fedges->ManifoldEdgesOff();
   fedges->ColoringOff();
   fedges->Update();
-  WriteTime(out, row, name + " feature edges", Seconds(t0),
-            fedges->GetOutput()->GetNumberOfLines());
+  WriteTime(
+    out, row, name + " feature edges", Seconds(t0), fedges->GetOutput()->GetNumberOfLines());
   const FeatureScore fs = ScoreFeatures(fedges->GetOutput(), shape);
   WriteFeatures(out, row, name, fs);
   res.Features[name] = fs;
 }
 
-struct ATConfig {
+struct ATConfig
+{
   int R;
   double Alpha, Lambda, EpsilonEnd;
   std::string Name;
 };
 
-struct Settings {
-  std::vector<ATConfig> AT = {{4, 0.05, 0.01, 0.25, "AT(II4)"},
-                              {8, 0.1, 0.01, 0.25, "AT(II8)"}};
+struct Settings
+{
+  std::vector<ATConfig> AT = { { 4, 0.05, 0.01, 0.25, "AT(II4)" },
+    { 8, 0.1, 0.01, 0.25, "AT(II8)" } };
   bool VTK = true;
   int Solver = vtkAmbrosioTortorelliFilter::CONJUGATE_GRADIENT;
   int MaximumIterations = 5;
 };
 
-CaseResult RunCase(Output &out, const dgtest::ImplicitShape &shape,
-                   vtkImageData *clean, const Row &row,
-                   const Settings &settings) {
+CaseResult RunCase(Output& out,
+  const dgtest::ImplicitShape& shape,
+  vtkImageData* clean,
+  const Row& row,
+  const Settings& settings)
+{
   CaseResult res;
   auto t0 = Clock::now();
   vtkNew<vtkDigitalNoiseFilter> noise;
@@ -444,7 +482,7 @@ CaseResult RunCase(Output &out, const dgtest::ImplicitShape &shape,
   noise->SetNoiseLevel(row.K);
   noise->SetSeed(row.Seed);
   noise->Update();
-  vtkImageData *image = noise->GetOutput();
+  vtkImageData* image = noise->GetOutput();
   WriteTime(out, row, "noise", Seconds(t0), noise->GetNumberOfFlippedVoxels());
 
   // --- digital surface and its methods
@@ -452,21 +490,21 @@ CaseResult RunCase(Output &out, const dgtest::ImplicitShape &shape,
   vtkNew<vtkDigitalSurfaceFilter> surf;
   surf->SetInputData(image);
   surf->Update();
-  vtkPolyData *surface = surf->GetOutput();
+  vtkPolyData* surface = surf->GetOutput();
   const vtkIdType F = surface->GetNumberOfPolys();
   WriteTime(out, row, "digital surface", Seconds(t0), F);
 
   const auto centres = dgtest::SurfelCenters(surface);
   const Truth truth = MakeTruth(shape, centres);
-  WriteErrors(out, row, "trivial", truth, Normals(surface, "Normals"),
-              &res.Errors["trivial"]);
+  WriteErrors(out, row, "trivial", truth, Normals(surface, "Normals"), &res.Errors["trivial"]);
 
   std::map<int, vtkSmartPointer<vtkPolyData>> ii;
-  std::vector<int> radii = {3, 4, 8};
-  for (const auto &p : settings.AT)
+  std::vector<int> radii = { 3, 4, 8 };
+  for (const auto& p : settings.AT)
     if (std::find(radii.begin(), radii.end(), p.R) == radii.end())
       radii.push_back(p.R);
-  for (int r : radii) {
+  for (int r : radii)
+  {
     t0 = Clock::now();
     vtkNew<vtkIINormalEstimator> est;
     est->SetInputData(surface);
@@ -476,30 +514,30 @@ CaseResult RunCase(Output &out, const dgtest::ImplicitShape &shape,
     const std::string name = "II-r" + std::to_string(r);
     WriteTime(out, row, name, Seconds(t0), F);
     ii[r] = est->GetOutput();
-    WriteErrors(out, row, name, truth, Normals(ii[r], "IINormals"),
-                &res.Errors[name]);
+    WriteErrors(out, row, name, truth, Normals(ii[r], "IINormals"), &res.Errors[name]);
   }
 
-  for (const auto &p : settings.AT) {
+  for (const auto& p : settings.AT)
+  {
     t0 = Clock::now();
     vtkNew<vtkAmbrosioTortorelliFilter> at;
     at->SetInputData(ii[p.R]);
-    at->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
-                               "IINormals");
+    at->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "IINormals");
     at->SetAlpha(p.Alpha);
     at->SetLambda(p.Lambda);
     at->SetEpsilonEnd(p.EpsilonEnd);
     at->SetLinearSolver(settings.Solver);
     at->SetMaximumIterations(settings.MaximumIterations);
     at->Update();
-    const std::string &name = p.Name;
+    const std::string& name = p.Name;
     WriteTime(out, row, name, Seconds(t0), F);
-    WriteErrors(out, row, name, truth,
-                Normals(vtkPolyData::SafeDownCast(at->GetOutputDataObject(0)),
-                        "ATNormals"),
-                &res.Errors[name]);
-    FeatureScore fs = ScoreFeatures(
-        vtkPolyData::SafeDownCast(at->GetOutputDataObject(1)), shape);
+    WriteErrors(out,
+      row,
+      name,
+      truth,
+      Normals(vtkPolyData::SafeDownCast(at->GetOutputDataObject(0)), "ATNormals"),
+      &res.Errors[name]);
+    FeatureScore fs = ScoreFeatures(vtkPolyData::SafeDownCast(at->GetOutputDataObject(1)), shape);
     fs.Iterations = at->GetNumberOfIterations();
     WriteFeatures(out, row, name, fs);
     res.Features[name] = fs;
@@ -507,7 +545,8 @@ CaseResult RunCase(Output &out, const dgtest::ImplicitShape &shape,
 
   // --- the VTK user's pipeline: the usual recipe ("VTK") and a version tuned
   // for noise ("VTK-strong": largest component only, stronger smoothing)
-  if (settings.VTK) {
+  if (settings.VTK)
+  {
     RunVTK(out, shape, image, row, false, res);
     RunVTK(out, shape, image, row, true, res);
   }
@@ -516,75 +555,89 @@ CaseResult RunCase(Output &out, const dgtest::ImplicitShape &shape,
 
 } // namespace
 
-int main(int argc, char *argv[]) {
-  std::vector<int> sizes = {64, 128};
-  std::vector<double> noise = {0, 0.1, 0.2, 0.3, 0.4, 0.5};
-  std::vector<int> seeds = {1, 2};
-  std::vector<std::string> shapes = {"sphere",   "cube",       "cubesphere",
-                                     "cylinder", "octahedron", "wedge"};
+int main(int argc, char* argv[])
+{
+  std::vector<int> sizes = { 64, 128 };
+  std::vector<double> noise = { 0, 0.1, 0.2, 0.3, 0.4, 0.5 };
+  std::vector<int> seeds = { 1, 2 };
+  std::vector<std::string> shapes = {
+    "sphere", "cube", "cubesphere", "cylinder", "octahedron", "wedge"
+  };
   std::map<int, int> seedsAt;
   std::string prefix = "quality";
   Settings settings;
   bool check = false;
-  for (int a = 1; a < argc; ++a) {
+  for (int a = 1; a < argc; ++a)
+  {
     const std::string arg = argv[a];
     const bool hasValue = a + 1 < argc;
-    if (arg == "--sizes" && hasValue) {
+    if (arg == "--sizes" && hasValue)
+    {
       sizes.clear();
-      for (const auto &s : Split(argv[++a]))
+      for (const auto& s : Split(argv[++a]))
         sizes.push_back(std::stoi(s));
-    } else if (arg == "--noise" && hasValue) {
+    }
+    else if (arg == "--noise" && hasValue)
+    {
       noise.clear();
-      for (const auto &s : Split(argv[++a]))
+      for (const auto& s : Split(argv[++a]))
         noise.push_back(std::stod(s));
-    } else if (arg == "--seeds" && hasValue) {
+    }
+    else if (arg == "--seeds" && hasValue)
+    {
       seeds.clear();
-      for (const auto &s : Split(argv[++a]))
+      for (const auto& s : Split(argv[++a]))
         seeds.push_back(std::stoi(s));
-    } else if (arg == "--seeds-at" && hasValue) {
-      for (const auto &s : Split(argv[++a])) {
+    }
+    else if (arg == "--seeds-at" && hasValue)
+    {
+      for (const auto& s : Split(argv[++a]))
+      {
         const auto colon = s.find(':');
         if (colon != std::string::npos)
-          seedsAt[std::stoi(s.substr(0, colon))] =
-              std::stoi(s.substr(colon + 1));
+          seedsAt[std::stoi(s.substr(0, colon))] = std::stoi(s.substr(colon + 1));
       }
-    } else if (arg == "--shapes" && hasValue)
+    }
+    else if (arg == "--shapes" && hasValue)
       shapes = Split(argv[++a]);
     else if (arg == "--out" && hasValue)
       prefix = argv[++a];
-    else if (arg == "--at" && hasValue) {
+    else if (arg == "--at" && hasValue)
+    {
       settings.AT.clear();
-      for (const auto &c : Split(argv[++a])) {
-        ATConfig cfg{4, 0.05, 0.01, 0.25, ""};
-        std::sscanf(c.c_str(), "%d:%lf:%lf:%lf", &cfg.R, &cfg.Alpha,
-                    &cfg.Lambda, &cfg.EpsilonEnd);
+      for (const auto& c : Split(argv[++a]))
+      {
+        ATConfig cfg{ 4, 0.05, 0.01, 0.25, "" };
+        std::sscanf(c.c_str(), "%d:%lf:%lf:%lf", &cfg.R, &cfg.Alpha, &cfg.Lambda, &cfg.EpsilonEnd);
         std::ostringstream nm;
-        nm << "AT(II" << cfg.R << " a" << cfg.Alpha << " l" << cfg.Lambda
-           << " e" << cfg.EpsilonEnd << ")";
+        nm << "AT(II" << cfg.R << " a" << cfg.Alpha << " l" << cfg.Lambda << " e" << cfg.EpsilonEnd
+           << ")";
         cfg.Name = nm.str();
         settings.AT.push_back(cfg);
       }
-    } else if (arg == "--at-iterations" && hasValue)
+    }
+    else if (arg == "--at-iterations" && hasValue)
       settings.MaximumIterations = std::max(1, std::atoi(argv[++a]));
     else if (arg == "--no-vtk")
       settings.VTK = false;
-    else if (arg == "--solver" && hasValue) {
+    else if (arg == "--solver" && hasValue)
+    {
       const std::string v = argv[++a];
-      settings.Solver =
-          v == "ldlt"      ? vtkAmbrosioTortorelliFilter::SIMPLICIAL_LDLT
-          : v == "cholmod" ? vtkAmbrosioTortorelliFilter::CHOLMOD
-                           : vtkAmbrosioTortorelliFilter::CONJUGATE_GRADIENT;
-    } else if (arg == "--check")
+      settings.Solver = v == "ldlt"      ? vtkAmbrosioTortorelliFilter::SIMPLICIAL_LDLT
+                        : v == "cholmod" ? vtkAmbrosioTortorelliFilter::CHOLMOD
+                                         : vtkAmbrosioTortorelliFilter::CONJUGATE_GRADIENT;
+    }
+    else if (arg == "--check")
       check = true;
-    else {
-      std::fprintf(
-          stderr,
-          "usage: %s [--sizes 64,128] [--noise 0,0.1,...] [--seeds 1,2] "
-          "[--seeds-at 128:1]\n"
-          "          [--shapes "
-          "sphere,cube,cubesphere,cylinder,octahedron,wedge] [--out PREFIX]"
-          " [--check]\n",
-          argv[0]);
+    else
+    {
+      std::fprintf(stderr,
+        "usage: %s [--sizes 64,128] [--noise 0,0.1,...] [--seeds 1,2] "
+        "[--seeds-at 128:1]\n"
+        "          [--shapes "
+        "sphere,cube,cubesphere,cylinder,octahedron,wedge] [--out PREFIX]"
+        " [--check]\n",
+        argv[0]);
       return 2;
     }
   }
@@ -595,88 +648,116 @@ int main(int argc, char *argv[]) {
   out.NormalsCsv.open(prefix + "_normals.csv");
   out.FeaturesCsv.open(prefix + "_features.csv");
   out.TimesCsv.open(prefix + "_times.csv");
-  if (!out.NormalsCsv || !out.FeaturesCsv || !out.TimesCsv) {
+  if (!out.NormalsCsv || !out.FeaturesCsv || !out.TimesCsv)
+  {
     std::fprintf(stderr, "cannot write %s_*.csv\n", prefix.c_str());
     return 1;
   }
-  for (auto *f : {&out.NormalsCsv, &out.FeaturesCsv, &out.TimesCsv})
+  for (auto* f : { &out.NormalsCsv, &out.FeaturesCsv, &out.TimesCsv })
     f->precision(6);
   out.NormalsCsv << "shape,n,k,seed,method,region,count,mean,median,p95\n";
-  out.FeaturesCsv
-      << "shape,n,k,seed,method,length,precision,recall,f1,iterations\n";
+  out.FeaturesCsv << "shape,n,k,seed,method,length,precision,recall,f1,iterations\n";
   out.TimesCsv << "shape,n,k,seed,stage,seconds,cells\n";
 
-  std::printf("vtkSMPTools backend %s, %d threads\n", vtkSMPTools::GetBackend(),
-              vtkSMPTools::GetEstimatedNumberOfThreads());
-  std::printf(
-      "%-10s %4s %4s %4s | mean angular error near/away (deg): trivial  II-r4  "
-      "AT(II4)  "
-      "AT(II8)  VTK  VTK-strong | F1: AT(II4) AT(II8) VTK VTK-strong | s\n",
-      "shape", "n", "k", "seed");
+  std::printf("vtkSMPTools backend %s, %d threads\n",
+    vtkSMPTools::GetBackend(),
+    vtkSMPTools::GetEstimatedNumberOfThreads());
+  std::printf("%-10s %4s %4s %4s | mean angular error near/away (deg): trivial  II-r4  "
+              "AT(II4)  "
+              "AT(II8)  VTK  VTK-strong | F1: AT(II4) AT(II8) VTK VTK-strong | s\n",
+    "shape",
+    "n",
+    "k",
+    "seed");
   const auto tAll = Clock::now();
-  for (int n : sizes) {
-    for (const auto &name : shapes) {
+  for (int n : sizes)
+  {
+    for (const auto& name : shapes)
+    {
       auto shape = MakeShape(name, n);
-      if (!shape) {
+      if (!shape)
+      {
         std::fprintf(stderr, "unknown shape %s\n", name.c_str());
         return 2;
       }
       auto clean = dgtest::Digitize(*shape, n);
-      for (double k : noise) {
+      for (double k : noise)
+      {
         std::size_t ns = seeds.size();
         if (seedsAt.count(n))
           ns = std::min<std::size_t>(ns, seedsAt[n]);
         if (k == 0)
-          ns = std::min<std::size_t>(
-              ns, 1); // k = 0 flips nothing: one seed is enough
-        for (std::size_t si = 0; si < ns; ++si) {
-          const Row row{name, n, k, seeds[si]};
+          ns = std::min<std::size_t>(ns, 1); // k = 0 flips nothing: one seed is enough
+        for (std::size_t si = 0; si < ns; ++si)
+        {
+          const Row row{ name, n, k, seeds[si] };
           const auto t0 = Clock::now();
           const CaseResult r = RunCase(out, *shape, clean, row, settings);
-          auto e = [&](const char *m, const char *region) {
+          auto e = [&](const char* m, const char* region)
+          {
             auto it = r.Errors.find(m);
             if (it == r.Errors.end() || !it->second.count(region))
               return NaN;
             return it->second.at(region).Mean;
           };
-          auto f1 = [&](const char *m) {
+          auto f1 = [&](const char* m)
+          {
             auto it = r.Features.find(m);
             return it == r.Features.end() ? NaN : it->second.F1;
           };
-          std::printf(
-              "%-10s %4d %4.1f %4d | %5.1f/%-5.1f %5.1f/%-5.1f %5.1f/%-5.1f "
-              "%5.1f/%-5.1f "
-              "%5.1f/%-5.1f %5.1f/%-5.1f | %.2f %.2f %.2f %.2f | %.1f\n",
-              name.c_str(), n, k, seeds[si], e("trivial", "near"),
-              e("trivial", "away"), e("II-r4", "near"), e("II-r4", "away"),
-              e("AT(II4)", "near"), e("AT(II4)", "away"), e("AT(II8)", "near"),
-              e("AT(II8)", "away"), e("VTK", "near"), e("VTK", "away"),
-              e("VTK-strong", "near"), e("VTK-strong", "away"), f1("AT(II4)"),
-              f1("AT(II8)"), f1("VTK"), f1("VTK-strong"), Seconds(t0));
-          for (const auto &cfg : settings.AT) {
+          std::printf("%-10s %4d %4.1f %4d | %5.1f/%-5.1f %5.1f/%-5.1f %5.1f/%-5.1f "
+                      "%5.1f/%-5.1f "
+                      "%5.1f/%-5.1f %5.1f/%-5.1f | %.2f %.2f %.2f %.2f | %.1f\n",
+            name.c_str(),
+            n,
+            k,
+            seeds[si],
+            e("trivial", "near"),
+            e("trivial", "away"),
+            e("II-r4", "near"),
+            e("II-r4", "away"),
+            e("AT(II4)", "near"),
+            e("AT(II4)", "away"),
+            e("AT(II8)", "near"),
+            e("AT(II8)", "away"),
+            e("VTK", "near"),
+            e("VTK", "away"),
+            e("VTK-strong", "near"),
+            e("VTK-strong", "away"),
+            f1("AT(II4)"),
+            f1("AT(II8)"),
+            f1("VTK"),
+            f1("VTK-strong"),
+            Seconds(t0));
+          for (const auto& cfg : settings.AT)
+          {
             if (cfg.Name == "AT(II4)" || cfg.Name == "AT(II8)")
               continue;
-            const auto &fs = r.Features.at(cfg.Name);
+            const auto& fs = r.Features.at(cfg.Name);
             std::printf("    %-28s near %5.1f away %5.1f | P %.2f R %.2f F1 "
                         "%.2f len %.0f it %d\n",
-                        cfg.Name.c_str(), e(cfg.Name.c_str(), "near"),
-                        e(cfg.Name.c_str(), "away"), fs.Precision, fs.Recall,
-                        fs.F1, fs.Length, fs.Iterations);
+              cfg.Name.c_str(),
+              e(cfg.Name.c_str(), "near"),
+              e(cfg.Name.c_str(), "away"),
+              fs.Precision,
+              fs.Recall,
+              fs.F1,
+              fs.Length,
+              fs.Iterations);
           }
           std::fflush(stdout);
-          if (check) {
+          if (check)
+          {
             // Loose sanity bounds: every method ran and produced sane normals.
-            for (const char *m : {"trivial", "II-r3", "II-r4", "II-r8",
-                                  "AT(II4)", "AT(II8)", "VTK", "VTK-strong"}) {
+            for (const char* m :
+              { "trivial", "II-r3", "II-r4", "II-r8", "AT(II4)", "AT(II8)", "VTK", "VTK-strong" })
+            {
               const double all = e(m, "all");
               const std::string ms = m;
-              const double bound = ms == "trivial"           ? 90.0
-                                   : ms.rfind("VTK", 0) == 0 ? 75.0
-                                                             : 45.0;
-              if (!(all >= 0 && all < bound)) {
-                std::fprintf(stderr,
-                             "check failed: %s mean error %g (bound %g)\n", m,
-                             all, bound);
+              const double bound = ms == "trivial" ? 90.0 : ms.rfind("VTK", 0) == 0 ? 75.0 : 45.0;
+              if (!(all >= 0 && all < bound))
+              {
+                std::fprintf(stderr, "check failed: %s mean error %g (bound %g)\n", m, all, bound);
                 out.CheckFailed = true;
               }
             }
@@ -685,8 +766,10 @@ int main(int argc, char *argv[]) {
       }
     }
   }
-  std::printf(
-      "total %.1f s; wrote %s_normals.csv, %s_features.csv, %s_times.csv\n",
-      Seconds(tAll), prefix.c_str(), prefix.c_str(), prefix.c_str());
+  std::printf("total %.1f s; wrote %s_normals.csv, %s_features.csv, %s_times.csv\n",
+    Seconds(tAll),
+    prefix.c_str(),
+    prefix.c_str(),
+    prefix.c_str());
   return out.CheckFailed ? 1 : 0;
 }

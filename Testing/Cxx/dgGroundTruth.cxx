@@ -9,112 +9,145 @@
 #include <cmath>
 #include <limits>
 
-namespace dgtest {
-namespace {
+namespace dgtest
+{
+namespace
+{
 using V3 = Eigen::Vector3d;
 constexpr double Inf = std::numeric_limits<double>::infinity();
 constexpr double SampleStep = 0.25; // polylines are this fine
 
-double SegmentDistance(const V3 &p, const V3 &a, const V3 &b) {
+double SegmentDistance(const V3& p, const V3& a, const V3& b)
+{
   const V3 ab = b - a;
   const double l2 = ab.squaredNorm();
   const double t = l2 > 0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
   return (a + t * ab - p).norm();
 }
 
-struct Plane {
+struct Plane
+{
   V3 N;     // unit outward normal
   double D; // n.(p - c) <= D inside
 };
 
 // Convex polyhedron as an intersection of half-spaces, optionally intersected
 // with a sphere of the same centre.
-class ConvexShape : public ImplicitShape {
+class ConvexShape : public ImplicitShape
+{
 public:
-  ConvexShape(std::string name, const V3 &c, std::vector<Plane> planes,
-              double sphereRadius = Inf)
-      : NameText(std::move(name)), C(c), Planes(std::move(planes)),
-        R(sphereRadius) {
+  ConvexShape(std::string name, const V3& c, std::vector<Plane> planes, double sphereRadius = Inf)
+    : NameText(std::move(name))
+    , C(c)
+    , Planes(std::move(planes))
+    , R(sphereRadius)
+  {
     this->BuildEdges();
   }
   std::string Name() const override { return this->NameText; }
-  double Value(const V3 &p) const override {
+  double Value(const V3& p) const override
+  {
     double f = -Inf;
-    for (const auto &pl : this->Planes) {
+    for (const auto& pl : this->Planes)
+    {
       f = std::max(f, pl.N.dot(p - this->C) - pl.D);
     }
-    if (std::isfinite(this->R)) {
+    if (std::isfinite(this->R))
+    {
       f = std::max(f, (p - this->C).norm() - this->R);
     }
     return f;
   }
-  V3 Normal(const V3 &p) const override {
+  V3 Normal(const V3& p) const override
+  {
     double f = -Inf;
     V3 n(0, 0, 1);
-    for (const auto &pl : this->Planes) {
+    for (const auto& pl : this->Planes)
+    {
       const double v = pl.N.dot(p - this->C) - pl.D;
-      if (v > f) {
+      if (v > f)
+      {
         f = v;
         n = pl.N;
       }
     }
-    if (std::isfinite(this->R) && (p - this->C).norm() - this->R > f) {
+    if (std::isfinite(this->R) && (p - this->C).norm() - this->R > f)
+    {
       n = (p - this->C).normalized();
     }
     return n;
   }
 
 private:
-  bool InsidePlanes(const V3 &x, int skipA, int skipB) const {
-    for (int k = 0; k < static_cast<int>(this->Planes.size()); ++k) {
-      if (k != skipA && k != skipB &&
-          this->Planes[k].N.dot(x - this->C) > this->Planes[k].D + 1e-9) {
+  bool InsidePlanes(const V3& x, int skipA, int skipB) const
+  {
+    for (int k = 0; k < static_cast<int>(this->Planes.size()); ++k)
+    {
+      if (k != skipA && k != skipB && this->Planes[k].N.dot(x - this->C) > this->Planes[k].D + 1e-9)
+      {
         return false;
       }
     }
     return true;
   }
-  bool InsideSphere(const V3 &x) const {
+  bool InsideSphere(const V3& x) const
+  {
     return !std::isfinite(this->R) || (x - this->C).norm() <= this->R + 1e-9;
   }
   // Keeps the runs of consecutive samples that satisfy keep().
   template <typename Keep>
-  void AddKeptRuns(const std::vector<V3> &samples, bool closed, Keep keep) {
+  void AddKeptRuns(const std::vector<V3>& samples, bool closed, Keep keep)
+  {
     std::vector<V3> run;
     std::vector<std::vector<V3>> runs;
-    for (const auto &s : samples) {
-      if (keep(s)) {
+    for (const auto& s : samples)
+    {
+      if (keep(s))
+      {
         run.push_back(s);
-      } else if (!run.empty()) {
+      }
+      else if (!run.empty())
+      {
         runs.push_back(run);
         run.clear();
       }
     }
-    if (!run.empty()) {
-      if (closed && !runs.empty() && keep(samples.front())) {
+    if (!run.empty())
+    {
+      if (closed && !runs.empty() && keep(samples.front()))
+      {
         run.insert(run.end(), runs.front().begin(), runs.front().end());
         runs.front() = run;
-      } else {
-        if (closed && runs.empty() && run.size() == samples.size()) {
+      }
+      else
+      {
+        if (closed && runs.empty() && run.size() == samples.size())
+        {
           run.push_back(samples.front());
         }
         runs.push_back(run);
       }
     }
-    for (auto &r : runs) {
-      if (r.size() >= 2) {
+    for (auto& r : runs)
+    {
+      if (r.size() >= 2)
+      {
         this->AddPolyline(r);
       }
     }
   }
-  void BuildEdges() {
+  void BuildEdges()
+  {
     const int n = static_cast<int>(this->Planes.size());
-    for (int a = 0; a < n; ++a) {
-      for (int b = a + 1; b < n; ++b) {
-        const V3 &na = this->Planes[a].N;
-        const V3 &nb = this->Planes[b].N;
+    for (int a = 0; a < n; ++a)
+    {
+      for (int b = a + 1; b < n; ++b)
+      {
+        const V3& na = this->Planes[a].N;
+        const V3& nb = this->Planes[b].N;
         const V3 t = na.cross(nb);
-        if (t.norm() < 1e-9) {
+        if (t.norm() < 1e-9)
+        {
           continue;
         }
         // A point on both planes: minimum-norm solution of the 2x3 system.
@@ -127,56 +160,62 @@ private:
         // Clip the line by the other half-spaces.
         double lo = -1e6, hi = 1e6;
         bool empty = false;
-        for (int k = 0; k < n && !empty; ++k) {
+        for (int k = 0; k < n && !empty; ++k)
+        {
           if (k == a || k == b)
             continue;
           const double s = this->Planes[k].N.dot(dir);
           const double r = this->Planes[k].D - this->Planes[k].N.dot(x0);
-          if (std::fabs(s) < 1e-12) {
+          if (std::fabs(s) < 1e-12)
+          {
             empty = r < 0;
-          } else if (s > 0) {
+          }
+          else if (s > 0)
+          {
             hi = std::min(hi, r / s);
-          } else {
+          }
+          else
+          {
             lo = std::max(lo, r / s);
           }
         }
-        if (empty || hi - lo < 1e-9) {
+        if (empty || hi - lo < 1e-9)
+        {
           continue;
         }
         std::vector<V3> samples;
-        const int m =
-            std::max(1, static_cast<int>(std::ceil((hi - lo) / SampleStep)));
-        for (int s = 0; s <= m; ++s) {
+        const int m = std::max(1, static_cast<int>(std::ceil((hi - lo) / SampleStep)));
+        for (int s = 0; s <= m; ++s)
+        {
           samples.push_back(this->C + x0 + (lo + (hi - lo) * s / m) * dir);
         }
-        this->AddKeptRuns(samples, false,
-                          [&](const V3 &x) { return this->InsideSphere(x); });
+        this->AddKeptRuns(samples, false, [&](const V3& x) { return this->InsideSphere(x); });
       }
     }
-    if (!std::isfinite(this->R)) {
+    if (!std::isfinite(this->R))
+    {
       return;
     }
     // Circles where the sphere meets each face plane.
-    for (int a = 0; a < n; ++a) {
-      const V3 &na = this->Planes[a].N;
+    for (int a = 0; a < n; ++a)
+    {
+      const V3& na = this->Planes[a].N;
       const double d = this->Planes[a].D;
-      if (d >= this->R) {
+      if (d >= this->R)
+      {
         continue;
       }
       const double rho = std::sqrt(this->R * this->R - d * d);
       V3 u = na.unitOrthogonal();
       V3 w = na.cross(u);
-      const int m =
-          std::max(8, static_cast<int>(std::ceil(2 * M_PI * rho / SampleStep)));
+      const int m = std::max(8, static_cast<int>(std::ceil(2 * M_PI * rho / SampleStep)));
       std::vector<V3> samples;
-      for (int s = 0; s < m; ++s) {
+      for (int s = 0; s < m; ++s)
+      {
         const double th = 2 * M_PI * s / m;
-        samples.push_back(this->C + d * na +
-                          rho * (std::cos(th) * u + std::sin(th) * w));
+        samples.push_back(this->C + d * na + rho * (std::cos(th) * u + std::sin(th) * w));
       }
-      this->AddKeptRuns(samples, true, [&](const V3 &x) {
-        return this->InsidePlanes(x, a, -1);
-      });
+      this->AddKeptRuns(samples, true, [&](const V3& x) { return this->InsidePlanes(x, a, -1); });
     }
   }
 
@@ -186,14 +225,18 @@ private:
   double R;
 };
 
-class SphereShape : public ImplicitShape {
+class SphereShape : public ImplicitShape
+{
 public:
-  SphereShape(const V3 &c, double r) : C(c), R(r) {}
-  std::string Name() const override { return "sphere"; }
-  double Value(const V3 &p) const override {
-    return (p - this->C).norm() - this->R;
+  SphereShape(const V3& c, double r)
+    : C(c)
+    , R(r)
+  {
   }
-  V3 Normal(const V3 &p) const override {
+  std::string Name() const override { return "sphere"; }
+  double Value(const V3& p) const override { return (p - this->C).norm() - this->R; }
+  V3 Normal(const V3& p) const override
+  {
     const V3 d = p - this->C;
     return d.norm() > 0 ? V3(d.normalized()) : V3(0, 0, 1);
   }
@@ -203,13 +246,20 @@ private:
   double R;
 };
 
-class CylinderShape : public ImplicitShape {
+class CylinderShape : public ImplicitShape
+{
 public:
-  CylinderShape(const V3 &c, double r, double hz) : C(c), R(r), HZ(hz) {
-    for (double sz : {-1.0, 1.0}) {
+  CylinderShape(const V3& c, double r, double hz)
+    : C(c)
+    , R(r)
+    , HZ(hz)
+  {
+    for (double sz : { -1.0, 1.0 })
+    {
       const int m = static_cast<int>(std::ceil(2 * M_PI * r / SampleStep));
       std::vector<V3> line;
-      for (int s = 0; s <= m; ++s) {
+      for (int s = 0; s <= m; ++s)
+      {
         const double th = 2 * M_PI * s / m;
         line.push_back(c + V3(r * std::cos(th), r * std::sin(th), sz * hz));
       }
@@ -217,16 +267,18 @@ public:
     }
   }
   std::string Name() const override { return "cylinder"; }
-  double Value(const V3 &p) const override {
+  double Value(const V3& p) const override
+  {
     const V3 d = p - this->C;
-    return std::max(std::hypot(d.x(), d.y()) - this->R,
-                    std::fabs(d.z()) - this->HZ);
+    return std::max(std::hypot(d.x(), d.y()) - this->R, std::fabs(d.z()) - this->HZ);
   }
-  V3 Normal(const V3 &p) const override {
+  V3 Normal(const V3& p) const override
+  {
     const V3 d = p - this->C;
     const double radial = std::hypot(d.x(), d.y()) - this->R;
     const double axial = std::fabs(d.z()) - this->HZ;
-    if (axial > radial) {
+    if (axial > radial)
+    {
       return V3(0, 0, d.z() >= 0 ? 1 : -1);
     }
     const double rr = std::hypot(d.x(), d.y());
@@ -240,103 +292,106 @@ private:
 
 } // namespace
 
-void PolylineDistance::AddSegment(const Eigen::Vector3d &a,
-                                  const Eigen::Vector3d &b) {
+void PolylineDistance::AddSegment(const Eigen::Vector3d& a, const Eigen::Vector3d& b)
+{
   this->A.push_back(a);
   this->B.push_back(b);
   this->BuildOnce = std::make_shared<std::once_flag>();
 }
 
-double PolylineDistance::TotalLength() const {
+double PolylineDistance::TotalLength() const
+{
   double l = 0;
-  for (std::size_t s = 0; s < this->A.size(); ++s) {
+  for (std::size_t s = 0; s < this->A.size(); ++s)
+  {
     l += (this->B[s] - this->A[s]).norm();
   }
   return l;
 }
 
-void PolylineDistance::Build() const {
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(Inf),
-                  hi = Eigen::Vector3d::Constant(-Inf);
-  for (std::size_t s = 0; s < this->A.size(); ++s) {
+void PolylineDistance::Build() const
+{
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(Inf), hi = Eigen::Vector3d::Constant(-Inf);
+  for (std::size_t s = 0; s < this->A.size(); ++s)
+  {
     lo = lo.cwiseMin(this->A[s]).cwiseMin(this->B[s]);
     hi = hi.cwiseMax(this->A[s]).cwiseMax(this->B[s]);
   }
-  for (int a = 0; a < 3; ++a) {
+  for (int a = 0; a < 3; ++a)
+  {
     this->GridMin[a] = static_cast<int>(std::floor(lo[a] / this->Cell)) - 1;
-    this->GridSize[a] =
-        static_cast<int>(std::floor(hi[a] / this->Cell)) + 2 - this->GridMin[a];
+    this->GridSize[a] = static_cast<int>(std::floor(hi[a] / this->Cell)) + 2 - this->GridMin[a];
   }
   this->Buckets.assign(static_cast<std::size_t>(this->GridSize.prod()), {});
-  for (std::size_t s = 0; s < this->A.size(); ++s) {
+  for (std::size_t s = 0; s < this->A.size(); ++s)
+  {
     const Eigen::Vector3d l = this->A[s].cwiseMin(this->B[s]);
     const Eigen::Vector3d h = this->A[s].cwiseMax(this->B[s]);
     Eigen::Vector3i c0, c1;
-    for (int a = 0; a < 3; ++a) {
-      c0[a] =
-          static_cast<int>(std::floor(l[a] / this->Cell)) - this->GridMin[a];
-      c1[a] =
-          static_cast<int>(std::floor(h[a] / this->Cell)) - this->GridMin[a];
+    for (int a = 0; a < 3; ++a)
+    {
+      c0[a] = static_cast<int>(std::floor(l[a] / this->Cell)) - this->GridMin[a];
+      c1[a] = static_cast<int>(std::floor(h[a] / this->Cell)) - this->GridMin[a];
     }
     for (int z = c0[2]; z <= c1[2]; ++z)
       for (int y = c0[1]; y <= c1[1]; ++y)
-        for (int x = c0[0]; x <= c1[0]; ++x) {
-          this->Buckets[(static_cast<std::size_t>(z) * this->GridSize[1] + y) *
-                            this->GridSize[0] +
-                        x]
-              .push_back(static_cast<int>(s));
+        for (int x = c0[0]; x <= c1[0]; ++x)
+        {
+          this->Buckets[(static_cast<std::size_t>(z) * this->GridSize[1] + y) * this->GridSize[0] + x]
+            .push_back(static_cast<int>(s));
         }
   }
 }
 
-double PolylineDistance::Distance(const Eigen::Vector3d &p,
-                                  double maxDistance) const {
-  if (this->A.empty()) {
+double PolylineDistance::Distance(const Eigen::Vector3d& p, double maxDistance) const
+{
+  if (this->A.empty())
+  {
     return Inf;
   }
   std::call_once(*this->BuildOnce, [this] { this->Build(); });
   Eigen::Vector3i c0, c1;
-  for (int a = 0; a < 3; ++a) {
-    c0[a] = std::max(
-        0, static_cast<int>(std::floor((p[a] - maxDistance) / this->Cell)) -
-               this->GridMin[a]);
-    c1[a] = std::min(
-        this->GridSize[a] - 1,
-        static_cast<int>(std::floor((p[a] + maxDistance) / this->Cell)) -
-            this->GridMin[a]);
+  for (int a = 0; a < 3; ++a)
+  {
+    c0[a] = std::max(0, static_cast<int>(std::floor((p[a] - maxDistance) / this->Cell)) - this->GridMin[a]);
+    c1[a] = std::min(this->GridSize[a] - 1,
+      static_cast<int>(std::floor((p[a] + maxDistance) / this->Cell)) - this->GridMin[a]);
   }
   double best = Inf;
   for (int z = c0[2]; z <= c1[2]; ++z)
     for (int y = c0[1]; y <= c1[1]; ++y)
-      for (int x = c0[0]; x <= c1[0]; ++x) {
+      for (int x = c0[0]; x <= c1[0]; ++x)
+      {
         for (int s :
-             this->Buckets[(static_cast<std::size_t>(z) * this->GridSize[1] +
-                            y) *
-                               this->GridSize[0] +
-                           x]) {
+          this->Buckets[(static_cast<std::size_t>(z) * this->GridSize[1] + y) * this->GridSize[0] + x])
+        {
           best = std::min(best, SegmentDistance(p, this->A[s], this->B[s]));
         }
       }
   return best;
 }
 
-void ImplicitShape::AddPolyline(const std::vector<Eigen::Vector3d> &line) {
+void ImplicitShape::AddPolyline(const std::vector<Eigen::Vector3d>& line)
+{
   this->EdgePolylines.push_back(line);
-  for (std::size_t s = 0; s + 1 < line.size(); ++s) {
+  for (std::size_t s = 0; s + 1 < line.size(); ++s)
+  {
     this->Edges.AddSegment(line[s], line[s + 1]);
   }
 }
 
-std::vector<Eigen::Vector3d>
-ImplicitShape::SharpEdgeSamples(double step) const {
+std::vector<Eigen::Vector3d> ImplicitShape::SharpEdgeSamples(double step) const
+{
   std::vector<Eigen::Vector3d> out;
-  for (const auto &line : this->EdgePolylines) {
-    for (std::size_t s = 0; s + 1 < line.size(); ++s) {
+  for (const auto& line : this->EdgePolylines)
+  {
+    for (std::size_t s = 0; s + 1 < line.size(); ++s)
+    {
       const double l = (line[s + 1] - line[s]).norm();
       const int m = std::max(1, static_cast<int>(std::ceil(l / step)));
-      for (int t = 0; t < m; ++t) {
-        out.push_back(line[s] +
-                      (line[s + 1] - line[s]) * (static_cast<double>(t) / m));
+      for (int t = 0; t < m; ++t)
+      {
+        out.push_back(line[s] + (line[s + 1] - line[s]) * (static_cast<double>(t) / m));
       }
     }
     out.push_back(line.back());
@@ -344,107 +399,111 @@ ImplicitShape::SharpEdgeSamples(double step) const {
   return out;
 }
 
-std::unique_ptr<ImplicitShape> MakeSphere(const Eigen::Vector3d &center,
-                                          double radius) {
+std::unique_ptr<ImplicitShape> MakeSphere(const Eigen::Vector3d& center, double radius)
+{
   return std::make_unique<SphereShape>(center, radius);
 }
 
-std::unique_ptr<ImplicitShape> MakeRotatedCube(const Eigen::Vector3d &center,
-                                               double h, double ax, double ay,
-                                               double az) {
+std::unique_ptr<ImplicitShape> MakeRotatedCube(
+  const Eigen::Vector3d& center, double h, double ax, double ay, double az)
+{
   const double d = M_PI / 180;
   const Eigen::Matrix3d R = (Eigen::AngleAxisd(az * d, V3::UnitZ()) *
-                             Eigen::AngleAxisd(ay * d, V3::UnitY()) *
-                             Eigen::AngleAxisd(ax * d, V3::UnitX()))
-                                .toRotationMatrix();
+    Eigen::AngleAxisd(ay * d, V3::UnitY()) * Eigen::AngleAxisd(ax * d, V3::UnitX()))
+                              .toRotationMatrix();
   std::vector<Plane> planes;
-  for (int a = 0; a < 3; ++a) {
-    planes.push_back({R.col(a), h});
-    planes.push_back({-R.col(a), h});
+  for (int a = 0; a < 3; ++a)
+  {
+    planes.push_back({ R.col(a), h });
+    planes.push_back({ -R.col(a), h });
   }
   return std::make_unique<ConvexShape>("rotated cube", center, planes);
 }
 
-std::unique_ptr<ImplicitShape> MakeCubeSphere(const Eigen::Vector3d &center,
-                                              double h, double r) {
+std::unique_ptr<ImplicitShape> MakeCubeSphere(const Eigen::Vector3d& center, double h, double r)
+{
   std::vector<Plane> planes;
-  for (int a = 0; a < 3; ++a) {
-    planes.push_back({V3::Unit(a), h});
-    planes.push_back({-V3::Unit(a), h});
+  for (int a = 0; a < 3; ++a)
+  {
+    planes.push_back({ V3::Unit(a), h });
+    planes.push_back({ -V3::Unit(a), h });
   }
   return std::make_unique<ConvexShape>("cube-sphere", center, planes, r);
 }
 
-std::unique_ptr<ImplicitShape> MakeCylinder(const Eigen::Vector3d &center,
-                                            double r, double hz) {
+std::unique_ptr<ImplicitShape> MakeCylinder(const Eigen::Vector3d& center, double r, double hz)
+{
   return std::make_unique<CylinderShape>(center, r, hz);
 }
 
-std::unique_ptr<ImplicitShape> MakeOctahedron(const Eigen::Vector3d &center,
-                                              double a) {
+std::unique_ptr<ImplicitShape> MakeOctahedron(const Eigen::Vector3d& center, double a)
+{
   std::vector<Plane> planes;
-  for (int s = 0; s < 8; ++s) {
+  for (int s = 0; s < 8; ++s)
+  {
     const V3 n((s & 1) ? 1 : -1, (s & 2) ? 1 : -1, (s & 4) ? 1 : -1);
-    planes.push_back({n / std::sqrt(3.0), a / std::sqrt(3.0)});
+    planes.push_back({ n / std::sqrt(3.0), a / std::sqrt(3.0) });
   }
   return std::make_unique<ConvexShape>("octahedron", center, planes);
 }
 
-std::unique_ptr<ImplicitShape> MakeWedge(const Eigen::Vector3d &center,
-                                         double h) {
+std::unique_ptr<ImplicitShape> MakeWedge(const Eigen::Vector3d& center, double h)
+{
   const double t = std::tan(15 * M_PI / 180);
   const double len = std::sqrt(1 + t * t);
-  std::vector<Plane> planes = {{V3(1, 0, 0), h},
-                               {V3(-1, 0, 0), h},
-                               {V3(0, 1, 0), h},
-                               {V3(0, -1, 0), h},
-                               {V3(0, 0, -1), h},
-                               {V3(t, 0, 1) / len, h / len},
-                               {V3(-t, 0, 1) / len, h / len}};
+  std::vector<Plane> planes = { { V3(1, 0, 0), h }, { V3(-1, 0, 0), h }, { V3(0, 1, 0), h },
+    { V3(0, -1, 0), h }, { V3(0, 0, -1), h }, { V3(t, 0, 1) / len, h / len },
+    { V3(-t, 0, 1) / len, h / len } };
   return std::make_unique<ConvexShape>("wedge", center, planes);
 }
 
-vtkSmartPointer<vtkImageData> Digitize(const ImplicitShape &shape, int n) {
+vtkSmartPointer<vtkImageData> Digitize(const ImplicitShape& shape, int n)
+{
   auto image = vtkSmartPointer<vtkImageData>::New();
   image->SetDimensions(n, n, n);
   image->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
-  auto *s =
-      vtkUnsignedCharArray::SafeDownCast(image->GetPointData()->GetScalars());
+  auto* s = vtkUnsignedCharArray::SafeDownCast(image->GetPointData()->GetScalars());
   s->SetName("Inside");
   vtkIdType id = 0;
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
+      for (int i = 0; i < n; ++i)
+      {
         s->SetValue(id++, shape.Inside(V3(i, j, k)) ? 1 : 0);
       }
   return image;
 }
 
-std::vector<Eigen::Vector3d> SurfelCenters(vtkDataObject *digitalSurface) {
+std::vector<Eigen::Vector3d> SurfelCenters(vtkDataObject* digitalSurface)
+{
   std::vector<Eigen::Vector3d> out;
-  auto *ds = vtkDataSet::SafeDownCast(digitalSurface);
-  if (!ds) {
+  auto* ds = vtkDataSet::SafeDownCast(digitalSurface);
+  if (!ds)
+  {
     return out;
   }
-  vtkDataArray *vox = ds->GetCellData()->GetArray("InsideVoxel");
-  vtkDataArray *dir = ds->GetCellData()->GetArray("SurfelDirection");
-  if (!vox || !dir) {
+  vtkDataArray* vox = ds->GetCellData()->GetArray("InsideVoxel");
+  vtkDataArray* dir = ds->GetCellData()->GetArray("SurfelDirection");
+  if (!vox || !dir)
+  {
     return out;
   }
   out.resize(static_cast<std::size_t>(vox->GetNumberOfTuples()));
-  for (vtkIdType c = 0; c < vox->GetNumberOfTuples(); ++c) {
+  for (vtkIdType c = 0; c < vox->GetNumberOfTuples(); ++c)
+  {
     const int d = static_cast<int>(dir->GetTuple1(c));
-    V3 p(vox->GetComponent(c, 0), vox->GetComponent(c, 1),
-         vox->GetComponent(c, 2));
+    V3 p(vox->GetComponent(c, 0), vox->GetComponent(c, 1), vox->GetComponent(c, 2));
     p[d / 2] += (d & 1) ? 0.5 : -0.5;
     out[c] = p;
   }
   return out;
 }
 
-double AngleDegrees(const Eigen::Vector3d &a, const Eigen::Vector3d &b) {
+double AngleDegrees(const Eigen::Vector3d& a, const Eigen::Vector3d& b)
+{
   const double na = a.norm(), nb = b.norm();
-  if (na == 0 || nb == 0) {
+  if (na == 0 || nb == 0)
+  {
     return 180.0;
   }
   return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI;

@@ -19,15 +19,17 @@
 #include <string>
 #include <vector>
 
-namespace dgtest {
+namespace dgtest
+{
 
 /// Distance from points to a set of segments, accelerated by a bucket grid.
-class PolylineDistance {
+class PolylineDistance
+{
 public:
-  void AddSegment(const Eigen::Vector3d &a, const Eigen::Vector3d &b);
+  void AddSegment(const Eigen::Vector3d& a, const Eigen::Vector3d& b);
   /// Exact distance when it is below maxDistance; otherwise some value
   /// >= maxDistance (infinity when there is no segment within reach).
-  double Distance(const Eigen::Vector3d &p, double maxDistance = 4.0) const;
+  double Distance(const Eigen::Vector3d& p, double maxDistance = 4.0) const;
   std::size_t Size() const { return this->A.size(); }
   double TotalLength() const;
 
@@ -37,74 +39,65 @@ private:
   // The bucket grid is built on first use; the flag makes concurrent
   // Distance() calls (vtkSMPTools loops in tests and benchmarks) safe.
   // Shared so that the class stays copyable; AddSegment replaces it.
-  std::shared_ptr<std::once_flag> BuildOnce =
-      std::make_shared<std::once_flag>();
+  std::shared_ptr<std::once_flag> BuildOnce = std::make_shared<std::once_flag>();
   mutable double Cell = 4.0;
   mutable std::vector<std::vector<int>> Buckets;
   mutable Eigen::Vector3i GridMin, GridSize;
 };
 
-class ImplicitShape {
+class ImplicitShape
+{
 public:
   virtual ~ImplicitShape() = default;
   virtual std::string Name() const = 0;
   /// Signed function: < 0 inside (a distance for spheres and planes, a
   /// max-combination of distances for CSG).
-  virtual double Value(const Eigen::Vector3d &p) const = 0;
-  bool Inside(const Eigen::Vector3d &p) const { return this->Value(p) <= 0.0; }
+  virtual double Value(const Eigen::Vector3d& p) const = 0;
+  bool Inside(const Eigen::Vector3d& p) const { return this->Value(p) <= 0.0; }
   /// True outward unit normal at (the surface point nearest to) p.
-  virtual Eigen::Vector3d Normal(const Eigen::Vector3d &p) const = 0;
-  /// Distance from p to the nearest sharp edge (infinity if the shape has
-  /// none).
-  double DistanceToSharpEdge(const Eigen::Vector3d &p,
-                             double maxDistance = 4.0) const {
+  virtual Eigen::Vector3d Normal(const Eigen::Vector3d& p) const = 0;
+  /// Distance from p to the nearest sharp edge (infinity if the shape has none).
+  double DistanceToSharpEdge(const Eigen::Vector3d& p, double maxDistance = 4.0) const
+  {
     return this->Edges.Size() ? this->Edges.Distance(p, maxDistance)
                               : std::numeric_limits<double>::infinity();
   }
   /// Points every `step` along the sharp edges.
   std::vector<Eigen::Vector3d> SharpEdgeSamples(double step) const;
-  const PolylineDistance &SharpEdges() const { return this->Edges; }
+  const PolylineDistance& SharpEdges() const { return this->Edges; }
   /// Sharp edges as polylines (for sampling).
   std::vector<std::vector<Eigen::Vector3d>> EdgePolylines;
 
 protected:
-  void AddPolyline(const std::vector<Eigen::Vector3d> &line);
+  void AddPolyline(const std::vector<Eigen::Vector3d>& line);
   PolylineDistance Edges;
 };
 
-std::unique_ptr<ImplicitShape> MakeSphere(const Eigen::Vector3d &center,
-                                          double radius);
-/// A cube of half side h, rotated by ax, ay, az degrees about x, y, z (R = Rz
-/// Ry Rx).
-std::unique_ptr<ImplicitShape> MakeRotatedCube(const Eigen::Vector3d &center,
-                                               double h, double ax, double ay,
-                                               double az);
-/// Intersection of an axis-aligned cube (half side h) and a concentric sphere
-/// of radius r, h < r < h*sqrt(2): six flat discs joined by spherical parts;
-/// the sharp edges are the six circles where the sphere meets the faces.
-std::unique_ptr<ImplicitShape> MakeCubeSphere(const Eigen::Vector3d &center,
-                                              double h, double r);
+std::unique_ptr<ImplicitShape> MakeSphere(const Eigen::Vector3d& center, double radius);
+/// A cube of half side h, rotated by ax, ay, az degrees about x, y, z (R = Rz Ry Rx).
+std::unique_ptr<ImplicitShape> MakeRotatedCube(
+  const Eigen::Vector3d& center, double h, double ax, double ay, double az);
+/// Intersection of an axis-aligned cube (half side h) and a concentric sphere of
+/// radius r, h < r < h*sqrt(2): six flat discs joined by spherical parts; the
+/// sharp edges are the six circles where the sphere meets the faces.
+std::unique_ptr<ImplicitShape> MakeCubeSphere(const Eigen::Vector3d& center, double h, double r);
 /// A cylinder along z with flat caps: radius r, half height hz.
-std::unique_ptr<ImplicitShape> MakeCylinder(const Eigen::Vector3d &center,
-                                            double r, double hz);
+std::unique_ptr<ImplicitShape> MakeCylinder(const Eigen::Vector3d& center, double r, double hz);
 /// |x| + |y| + |z| <= a (dihedral angle 109.47 degrees).
-std::unique_ptr<ImplicitShape> MakeOctahedron(const Eigen::Vector3d &center,
-                                              double a);
+std::unique_ptr<ImplicitShape> MakeOctahedron(const Eigen::Vector3d& center, double a);
 /// A roof: box |x| <= h, |y| <= h, -h <= z <= h - tan(15 deg) |x|; the ridge
-/// (x = 0) has a dihedral angle of 150 degrees (the paper's vanishing
-/// features).
-std::unique_ptr<ImplicitShape> MakeWedge(const Eigen::Vector3d &center,
-                                         double h);
+/// (x = 0) has a dihedral angle of 150 degrees (the paper's vanishing features).
+std::unique_ptr<ImplicitShape> MakeWedge(const Eigen::Vector3d& center, double h);
 
 /// Digitises a shape in an n^3 unsigned char image (1 inside, 0 outside).
-vtkSmartPointer<vtkImageData> Digitize(const ImplicitShape &shape, int n);
+vtkSmartPointer<vtkImageData> Digitize(const ImplicitShape& shape, int n);
 
 /// Centre of each surfel of a vtkDigitalSurfaceFilter output, in grid
 /// coordinates (inside voxel + half a voxel along the direction).
-std::vector<Eigen::Vector3d> SurfelCenters(vtkDataObject *digitalSurface);
+std::vector<Eigen::Vector3d> SurfelCenters(vtkDataObject* digitalSurface);
 
 /// Angle in degrees between two vectors (0..180).
-double AngleDegrees(const Eigen::Vector3d &a, const Eigen::Vector3d &b);
+double AngleDegrees(const Eigen::Vector3d& a, const Eigen::Vector3d& b);
 
 } // namespace dgtest
 
