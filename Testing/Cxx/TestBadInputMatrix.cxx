@@ -1,0 +1,531 @@
+// The bad-input matrix (issue 5): one row per case, each its own ctest entry.
+// A row names what it feeds, which stage should object, and how:
+//   Error    an ErrorEvent whose message contains Word, and an empty output;
+//   Warning  a WarningEvent whose message contains Word, no error, and a
+//            complete result (every cell present, every value finite);
+//   Result   no error, a complete finite result.
+// The scattered per-filter tests check the same messages in context; this
+// table is the one place where a regression of any row shows by name.
+#include "dgGroundTruth.h"
+#include "dgTestShapes.h"
+#include "dgVolFormat.h"
+#include "vtkAmbrosioTortorelliFilter.h"
+#include "vtkDGtalVolReader.h"
+#include "vtkDigitalSurfaceFilter.h"
+#include "vtkIINormalEstimator.h"
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDoubleArray.h>
+#include <vtkExecutive.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+
+namespace
+{
+enum class Expect
+{
+  Error,
+  Warning,
+  Result
+};
+
+struct Outcome
+{
+  int Errors = 0;
+  int Warnings = 0;
+  std::string Messages;
+  vtkIdType Cells = 0;         // cells of the main output (points for images)
+  vtkIdType ExpectedCells = 0; // for Warning / Result rows
+  bool Finite = true;          // every output array value finite
+};
+
+struct Row
+{
+  const char* Name;
+  Expect What;
+  const char* Word;
+  std::function<Outcome()> Run;
+};
+
+bool AllFinite(vtkFieldData* fd)
+{
+  for (int a = 0; a < fd->GetNumberOfArrays(); ++a)
+  {
+    vtkDataArray* arr = fd->GetArray(a);
+    if (!arr)
+    {
+      continue;
+    }
+    for (vtkIdType t = 0; t < arr->GetNumberOfTuples(); ++t)
+    {
+      for (int c = 0; c < arr->GetNumberOfComponents(); ++c)
+      {
+        if (!std::isfinite(arr->GetComponent(t, c)))
+        {
+          return false;
+        }
+      }
+    }
+  }
+  return true;
+}
+
+// Runs `algorithm` with an observer on it and on its executive (pipeline
+// errors such as a missing input come from the executive).
+Outcome Run(vtkAlgorithm* algorithm)
+{
+  vtkNew<dgtest::ErrorObserver> obs;
+  obs->Observe(algorithm);
+  obs->Observe(algorithm->GetExecutive());
+  algorithm->Update();
+  Outcome o;
+  o.Errors = obs->Errors;
+  o.Warnings = obs->Warnings;
+  o.Messages = obs->Messages;
+  if (auto* pd = vtkPolyData::SafeDownCast(algorithm->GetOutputDataObject(0)))
+  {
+    o.Cells = pd->GetNumberOfCells();
+    o.Finite = AllFinite(pd->GetCellData()) && AllFinite(pd->GetPointData());
+  }
+  else if (auto* im = vtkImageData::SafeDownCast(algorithm->GetOutputDataObject(0)))
+  {
+    o.Cells = im->GetNumberOfPoints();
+  }
+  return o;
+}
+
+vtkSmartPointer<vtkImageData> Block(int n)
+{
+  return dgtest::MakeImage(n,
+    n,
+    n,
+    [n](int i, int j, int k)
+    { return (i > 0 && j > 0 && k > 0 && i < n - 1 && j < n - 1 && k < n - 1) ? 1.0 : 0.0; });
+}
+
+Outcome Surface(vtkImageData* image, const std::function<void(vtkDigitalSurfaceFilter*)>& set = {})
+{
+  vtkNew<vtkDigitalSurfaceFilter> f;
+  if (set)
+  {
+    set(f);
+  }
+  f->SetInputData(image);
+  return Run(f);
+}
+
+Outcome II(vtkImageData* source, double radius, vtkImageData* surfaceOf = nullptr)
+{
+  auto image = Block(12);
+  vtkNew<vtkDigitalSurfaceFilter> surface;
+  surface->SetInputData(surfaceOf ? surfaceOf : image.Get());
+  vtkNew<vtkIINormalEstimator> ii;
+  ii->SetInputConnection(surface->GetOutputPort());
+  if (source)
+  {
+    ii->SetSourceData(source);
+  }
+  ii->SetRadius(radius);
+  return Run(ii);
+}
+
+// A digital surface of a small rotated cube with its trivial normals.
+vtkSmartPointer<vtkPolyData> CubeSurface()
+{
+  auto cube = dgtest::MakeRotatedCube(Eigen::Vector3d(8.1, 7.9, 8.2), 4.5, 20, 30, 10);
+  vtkNew<vtkDigitalSurfaceFilter> surface;
+  surface->SetInputData(dgtest::Digitize(*cube, 17));
+  surface->Update();
+  vtkSmartPointer<vtkPolyData> out = surface->GetOutput();
+  return out;
+}
+
+Outcome AT(vtkPolyData* input, const std::function<void(vtkAmbrosioTortorelliFilter*)>& set = {})
+{
+  vtkNew<vtkAmbrosioTortorelliFilter> at;
+  at->SetMaximumIterations(2);
+  if (set)
+  {
+    set(at);
+  }
+  at->SetInputData(input);
+  Outcome o = Run(at);
+  o.Cells += at->GetOutput(1)->GetNumberOfCells(); // an error must empty both ports
+  if (o.Errors == 0)
+  {
+    o.Cells = at->GetOutput(0)->GetNumberOfPolys();
+  }
+  o.ExpectedCells = input->GetNumberOfPolys();
+  return o;
+}
+
+vtkSmartPointer<vtkPolyData> CubeWithNormal(double value, vtkIdType cell)
+{
+  auto pd = vtkSmartPointer<vtkPolyData>::New();
+  pd->DeepCopy(CubeSurface());
+  pd->GetCellData()->GetNormals()->SetTuple3(cell, value, value, value);
+  return pd;
+}
+
+// Two voxels sharing only an edge (that edge has four quads), plus one point
+// that no polygon uses.
+vtkSmartPointer<vtkPolyData> NonManifoldWithIsolatedPoint()
+{
+  auto image = dgtest::MakeImage(4,
+    4,
+    4,
+    [](int i, int j, int k)
+    { return ((i == 1 && j == 1 && k == 1) || (i == 2 && j == 2 && k == 1)) ? 1.0 : 0.0; });
+  vtkNew<vtkDigitalSurfaceFilter> surface;
+  surface->SetInputData(image);
+  surface->Update();
+  auto pd = vtkSmartPointer<vtkPolyData>::New();
+  pd->DeepCopy(surface->GetOutput());
+  pd->GetPoints()->InsertNextPoint(40, 40, 40);
+  return pd;
+}
+
+// A 3 x 3 grid of quads with the centre one reversed.
+vtkSmartPointer<vtkPolyData> InconsistentWinding()
+{
+  vtkNew<vtkPoints> pts;
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i)
+      pts->InsertNextPoint(i, j, 0.1 * ((i + j) % 2));
+  vtkNew<vtkCellArray> polys;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i)
+    {
+      vtkIdType q[4] = { j * 4 + i, j * 4 + i + 1, (j + 1) * 4 + i + 1, (j + 1) * 4 + i };
+      if (i == 1 && j == 1)
+      {
+        std::swap(q[1], q[3]);
+      }
+      polys->InsertNextCell(4, q);
+    }
+  auto mesh = vtkSmartPointer<vtkPolyData>::New();
+  mesh->SetPoints(pts);
+  mesh->SetPolys(polys);
+  vtkNew<vtkDoubleArray> g;
+  g->SetNumberOfComponents(3);
+  for (int c = 0; c < 9; ++c)
+    g->InsertNextTuple3(0.1 * c, 0, 1);
+  mesh->GetCellData()->SetNormals(g);
+  return mesh;
+}
+
+Outcome ReadVolBytes(const std::string& name,
+  const std::function<void(std::vector<std::uint8_t>&)>& damage)
+{
+  const int dims[3] = { 5, 6, 7 };
+  std::vector<std::uint8_t> voxels(5 * 6 * 7);
+  for (std::size_t v = 0; v < voxels.size(); ++v)
+  {
+    voxels[v] = static_cast<std::uint8_t>((v * 37) % 3);
+  }
+  std::vector<std::uint8_t> bytes;
+  std::string error;
+  dg::EncodeVol(dims, voxels.data(), 3, bytes, error);
+  damage(bytes);
+  const std::string path = ::testing::TempDir() + "dg_matrix_" + name + ".vol";
+  std::ofstream(path, std::ios::binary)
+    .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  vtkNew<vtkDGtalVolReader> reader;
+  reader->SetFileName(path.c_str());
+  return Run(reader);
+}
+
+std::size_t DataStart(const std::vector<std::uint8_t>& b)
+{
+  const std::string s(b.begin(), b.end());
+  return s.find("\n.\n") + 3;
+}
+
+const Row Rows[] = {
+  // vtkDigitalSurfaceFilter
+  { "EmptyImage",
+    Expect::Error,
+    "",
+    []
+    {
+      vtkNew<vtkImageData> empty;
+      return Surface(empty);
+    } },
+  { "OneVoxelImage",
+    Expect::Error,
+    "",
+    [] { return Surface(dgtest::MakeImage(1, 1, 1, [](int, int, int) { return 1.0; })); } },
+  { "FlatImage",
+    Expect::Error,
+    "",
+    [] { return Surface(dgtest::MakeImage(8, 8, 1, [](int, int, int) { return 1.0; })); } },
+  { "NoScalars",
+    Expect::Error,
+    "scalars",
+    []
+    {
+      vtkNew<vtkImageData> image;
+      image->SetDimensions(4, 4, 4);
+      return Surface(image);
+    } },
+  { "ThreeComponentScalars",
+    Expect::Error,
+    "SelectedComponent",
+    []
+    {
+      vtkNew<vtkImageData> image;
+      image->SetDimensions(4, 4, 4);
+      image->AllocateScalars(VTK_FLOAT, 3);
+      image->GetPointData()->GetScalars()->Fill(1.0);
+      return Surface(image);
+    } },
+  { "NaNScalars",
+    Expect::Error,
+    "NaN",
+    []
+    {
+      return Surface(dgtest::MakeImage(
+        5, 5, 5, [](int i, int, int) { return i == 2 ? std::nan("") : 1.0; }, VTK_FLOAT));
+    } },
+  { "AllInside",
+    Expect::Warning,
+    "border",
+    []
+    {
+      Outcome o = Surface(dgtest::MakeImage(5, 5, 5, [](int, int, int) { return 1.0; }));
+      o.ExpectedCells = 6 * 5 * 5;
+      return o;
+    } },
+  { "SelectionMatchesNothing",
+    Expect::Error,
+    "",
+    [] { return Surface(dgtest::MakeImage(5, 5, 5, [](int, int, int) { return 0.0; })); } },
+  { "LabelNotPresent",
+    Expect::Error,
+    "",
+    []
+    {
+      return Surface(dgtest::MakeImage(5, 5, 5, [](int i, int, int) { return i; }),
+        [](vtkDigitalSurfaceFilter* f)
+        {
+          f->SetSelectionModeToLabel();
+          f->SetLabel(17);
+        });
+    } },
+  // vtkIINormalEstimator
+  { "IIWithoutImage", Expect::Error, "SetSource", [] { return II(nullptr, 3); } },
+  { "IIImageDoesNotMatch",
+    Expect::Error,
+    "does not match",
+    []
+    {
+      auto other = Block(14);
+      return II(other, 3);
+    } },
+  { "IIRadiusZero",
+    Expect::Error,
+    "Radius",
+    []
+    {
+      auto image = Block(12);
+      return II(image, 0, image);
+    } },
+  { "IIRadiusNegative",
+    Expect::Error,
+    "Radius",
+    []
+    {
+      auto image = Block(12);
+      return II(image, -1.5, image);
+    } },
+  { "IIRadiusLargerThanVolume",
+    Expect::Error,
+    "larger than the image",
+    []
+    {
+      auto image = Block(12);
+      return II(image, 40, image);
+    } },
+  { "IIGood",
+    Expect::Result,
+    "",
+    []
+    {
+      auto image = Block(12);
+      Outcome o = II(image, 3, image);
+      o.ExpectedCells = 6 * 10 * 10;
+      return o;
+    } },
+  // vtkAmbrosioTortorelliFilter
+  { "ATNoPolygons",
+    Expect::Error,
+    "no polygons",
+    []
+    {
+      vtkNew<vtkPolyData> pd;
+      pd->SetPoints(CubeSurface()->GetPoints());
+      return AT(pd);
+    } },
+  { "ATMissingArray",
+    Expect::Error,
+    "No field",
+    []
+    {
+      return AT(CubeSurface(),
+        [](vtkAmbrosioTortorelliFilter* a)
+        { a->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "Nope"); });
+    } },
+  { "ATFieldWithNaN", Expect::Error, "NaN", [] { return AT(CubeWithNormal(std::nan(""), 5)); } },
+  { "ATFieldWithZeroVector",
+    Expect::Error,
+    "zero vector",
+    [] { return AT(CubeWithNormal(0.0, 7)); } },
+  { "ATAlphaZero",
+    Expect::Error,
+    "Alpha",
+    [] { return AT(CubeSurface(), [](vtkAmbrosioTortorelliFilter* a) { a->SetAlpha(0); }); } },
+  { "ATAlphaNegative",
+    Expect::Error,
+    "Alpha",
+    [] { return AT(CubeSurface(), [](vtkAmbrosioTortorelliFilter* a) { a->SetAlpha(-1); }); } },
+  { "ATLambdaZero",
+    Expect::Error,
+    "Lambda",
+    [] { return AT(CubeSurface(), [](vtkAmbrosioTortorelliFilter* a) { a->SetLambda(0); }); } },
+  { "ATLambdaNegative",
+    Expect::Error,
+    "Lambda",
+    [] { return AT(CubeSurface(), [](vtkAmbrosioTortorelliFilter* a) { a->SetLambda(-0.01); }); } },
+  { "ATEpsilonEndAboveStart",
+    Expect::Error,
+    "EpsilonStart",
+    []
+    {
+      return AT(CubeSurface(),
+        [](vtkAmbrosioTortorelliFilter* a)
+        {
+          a->SetEpsilonStart(0.5);
+          a->SetEpsilonEnd(1.0);
+        });
+    } },
+  { "ATRatioOne",
+    Expect::Error,
+    "EpsilonRatio",
+    []
+    { return AT(CubeSurface(), [](vtkAmbrosioTortorelliFilter* a) { a->SetEpsilonRatio(1); }); } },
+  { "ATRatioBelowOne",
+    Expect::Error,
+    "EpsilonRatio",
+    [] {
+      return AT(CubeSurface(), [](vtkAmbrosioTortorelliFilter* a) { a->SetEpsilonRatio(0.5); });
+    } },
+  { "ATZeroIterations",
+    Expect::Error,
+    "MaximumIterations",
+    [] {
+      return AT(CubeSurface(), [](vtkAmbrosioTortorelliFilter* a) { a->SetMaximumIterations(0); });
+    } },
+  { "ATNonManifoldEdgeAndIsolatedPoint",
+    Expect::Result,
+    "",
+    [] { return AT(NonManifoldWithIsolatedPoint()); } },
+  { "ATInconsistentWinding",
+    Expect::Warning,
+    "opposite winding",
+    [] { return AT(InconsistentWinding()); } },
+  // vtkDGtalVolReader (the full corruption sweep is in TestVolReader)
+  { "VolTruncatedData",
+    Expect::Error,
+    "",
+    []
+    {
+      return ReadVolBytes(
+        "truncated", [](std::vector<std::uint8_t>& b) { b.resize(b.size() - 4); });
+    } },
+  { "VolTruncatedHeader",
+    Expect::Error,
+    "",
+    []
+    {
+      return ReadVolBytes(
+        "header", [](std::vector<std::uint8_t>& b) { b.resize(DataStart(b) - 4); });
+    } },
+  { "VolCorruptStream",
+    Expect::Error,
+    "",
+    []
+    {
+      return ReadVolBytes("corrupt",
+        [](std::vector<std::uint8_t>& b)
+        {
+          for (std::size_t p = DataStart(b) + 2; p < b.size(); p += 2)
+          {
+            b[p] ^= 0xA5;
+          }
+        });
+    } },
+  { "VolGood",
+    Expect::Result,
+    "",
+    []
+    {
+      Outcome o = ReadVolBytes("good", [](std::vector<std::uint8_t>&) {});
+      o.ExpectedCells = 5 * 6 * 7;
+      return o;
+    } },
+};
+
+// ctest shows the row's name rather than its bytes.
+void PrintTo(const Row& row, std::ostream* os)
+{
+  *os << row.Name;
+}
+
+class BadInput : public ::testing::TestWithParam<Row>
+{
+};
+
+TEST_P(BadInput, Row)
+{
+  const Row& row = GetParam();
+  const Outcome o = row.Run();
+  switch (row.What)
+  {
+    case Expect::Error:
+      EXPECT_GE(o.Errors, 1) << o.Messages;
+      EXPECT_NE(o.Messages.find(row.Word), std::string::npos) << o.Messages;
+      EXPECT_EQ(o.Cells, 0);
+      break;
+    case Expect::Warning:
+      EXPECT_EQ(o.Errors, 0) << o.Messages;
+      EXPECT_GE(o.Warnings, 1);
+      EXPECT_NE(o.Messages.find(row.Word), std::string::npos) << o.Messages;
+      EXPECT_EQ(o.Cells, o.ExpectedCells);
+      EXPECT_TRUE(o.Finite);
+      break;
+    case Expect::Result:
+      EXPECT_EQ(o.Errors, 0) << o.Messages;
+      EXPECT_EQ(o.Warnings, 0) << o.Messages;
+      EXPECT_EQ(o.Cells, o.ExpectedCells);
+      EXPECT_GT(o.Cells, 0);
+      EXPECT_TRUE(o.Finite);
+      break;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Matrix,
+  BadInput,
+  ::testing::ValuesIn(Rows),
+  [](const ::testing::TestParamInfo<Row>& info) { return std::string(info.param.Name); });
+
+} // namespace
