@@ -12,7 +12,7 @@
 //
 // Usage: BenchAT [runs] [max size: 64..256 synthetic, 512 adds octa-flower,
 //                "flower" for octa-flower only]
-//                [solvers: cg,ldlt,cholmod]; env DG_CG_TOLERANCE overrides 1e-8.
+//                [solvers: ldlt,cg,ic,cholmod]; env DG_CG_TOLERANCE overrides 1e-8.
 #include "dgATOperators.h"
 #include "dgATSolver.h"
 #include "vtkDGtalVolReader.h"
@@ -218,12 +218,26 @@ int main(int argc, char* argv[])
   const int maxSize = flowerOnly ? 512 : (argc > 2 ? std::atoi(argv[2]) : 256);
   std::vector<dg::ATLinearSolver> solvers;
   const std::string which = argc > 3 ? argv[3] : "ldlt,cg,cholmod";
-  if (which.find("ldlt") != std::string::npos)
-    solvers.push_back(dg::ATLinearSolver::SimplicialLDLT);
-  if (which.find("cg") != std::string::npos)
-    solvers.push_back(dg::ATLinearSolver::ConjugateGradient);
-  if (which.find("cholmod") != std::string::npos)
-    solvers.push_back(dg::ATLinearSolver::Cholmod);
+  for (std::size_t b = 0; b <= which.size();)
+  {
+    std::size_t e = which.find(',', b);
+    e = e == std::string::npos ? which.size() : e;
+    const std::string w = which.substr(b, e - b);
+    b = e + 1;
+    if (w == "ldlt")
+      solvers.push_back(dg::ATLinearSolver::SimplicialLDLT);
+    else if (w == "cg")
+      solvers.push_back(dg::ATLinearSolver::ConjugateGradient);
+    else if (w == "ic")
+      solvers.push_back(dg::ATLinearSolver::ConjugateGradientIC);
+    else if (w == "cholmod")
+      solvers.push_back(dg::ATLinearSolver::Cholmod);
+    else if (!w.empty())
+    {
+      std::fprintf(stderr, "unknown solver '%s' (ldlt, cg, ic, cholmod)\n", w.c_str());
+      return 2;
+    }
+  }
   if (!std::getenv("VTK_SMP_BACKEND_IN_USE"))
   {
     vtkSMPTools::SetBackend("STDThread");

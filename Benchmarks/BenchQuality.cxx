@@ -55,7 +55,8 @@
 //   --check        exits non-zero when a sanity bound fails (smoke test)
 //   --at R:ALPHA:LAMBDA[:EPSEND],...  replaces the two AT configurations
 //                  (for parameter studies; names then carry the parameters)
-//   --solver cg|ldlt|cholmod  AT's linear solver (default cg, the filter's)
+//   --solver cg|ic|ldlt|cholmod  AT's linear solver (default cg, Jacobi CG: the
+//                        tables in docs/quality.md were made with it)
 //   --at-iterations N  AT's MaximumIterations per epsilon level (default 5)
 //   --no-vtk       skips the VTK pipelines
 #include "dgGroundTruth.h"
@@ -624,7 +625,8 @@ int main(int argc, char* argv[])
     {
       const std::string v = argv[++a];
       settings.Solver = v == "ldlt"      ? vtkAmbrosioTortorelliFilter::SIMPLICIAL_LDLT
-                        : v == "cholmod" ? vtkAmbrosioTortorelliFilter::CHOLMOD
+        : v == "cholmod"                 ? vtkAmbrosioTortorelliFilter::CHOLMOD
+        : v == "ic"                      ? vtkAmbrosioTortorelliFilter::CONJUGATE_GRADIENT_IC
                                          : vtkAmbrosioTortorelliFilter::CONJUGATE_GRADIENT;
     }
     else if (arg == "--check")

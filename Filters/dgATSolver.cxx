@@ -21,18 +21,22 @@ namespace
 // so every result is bitwise reproducible.
 constexpr std::int64_t BlockSize = 2048;
 
-template <class Body>
+template<class Body>
 void ForBlocks(std::int64_t n, const Body& body)
 {
   const std::int64_t nb = (n + BlockSize - 1) / BlockSize;
   // Tasks of at least ~32k rows: below that, waking threads costs more than
   // the work (CG makes three such loops per iteration).
-  vtkSMPTools::For(0, nb, 16, [&](std::int64_t b0, std::int64_t b1) {
-    for (std::int64_t b = b0; b < b1; ++b)
+  vtkSMPTools::For(0,
+    nb,
+    16,
+    [&](std::int64_t b0, std::int64_t b1)
     {
-      body(b, b * BlockSize, std::min(n, (b + 1) * BlockSize));
-    }
-  });
+      for (std::int64_t b = b0; b < b1; ++b)
+      {
+        body(b, b * BlockSize, std::min(n, (b + 1) * BlockSize));
+      }
+    });
 }
 
 std::int64_t NumberOfBlocks(std::int64_t n)
@@ -80,7 +84,7 @@ public:
 
 namespace
 {
-template <class Factor>
+template<class Factor>
 class DirectSystem : public ATLinearSystem
 {
 public:
@@ -157,7 +161,14 @@ public:
   // The vectors are stored interleaved (row i, column c at i * nc + c) so
   // that one read of a matrix row serves every column. NC > 0 fixes the
   // number of columns at compile time (1 for v, 3 for normals).
-  template <int NC>
+  //
+  // The solve is memory-bound (BenchAT: ~20 GB/s of vector and matrix
+  // traffic on octa-flower), so each iteration makes three sweeps and keeps
+  // no more vectors than it must: q = A p (with p.q); r -= alpha q (with
+  // r.D^-1 r and r.r: z = D^-1 r is never stored); then x += alpha p and
+  // p = D^-1 r + beta p in one sweep. Same iterates as the textbook
+  // algorithm, two vector passes fewer per iteration.
+  template<int NC>
   bool SolveN(const ATSystemMatrix& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& xOut, int ncRun)
   {
     const int nc = NC > 0 ? NC : ncRun;
@@ -170,13 +181,13 @@ public:
     const int* inner = m.innerIndexPtr();
     const double* val = m.valuePtr();
     const double* dinv = this->InvDiag.data();
-    std::vector<double> x(n * nc), bi(n * nc), r(n * nc), z(n * nc), p(n * nc), q(n * nc);
+    std::vector<double> x(n * nc), r(n * nc), p(n * nc), q(n * nc);
     for (int c = 0; c < nc; ++c)
     {
       for (std::int64_t i = 0; i < n; ++i)
       {
         x[i * nc + c] = xOut(i, c);
-        bi[i * nc + c] = b(i, c);
+        r[i * nc + c] = b(i, c);
       }
     }
     const std::int64_t nb = NumberOfBlocks(n);
@@ -185,7 +196,8 @@ public:
     std::vector<double> rz(nc), bb(nc), alpha(nc, 0.0), beta(nc, 0.0);
     std::vector<char> active(nc, 1);
     // y_i = sum_k a_ik w_k for all columns, in registers when NC is fixed.
-    auto rowProduct = [&](std::int64_t i, const double* w, double* y) {
+    auto rowProduct = [&](std::int64_t i, const double* w, double* y)
+    {
       for (int c = 0; c < nc; ++c)
       {
         y[c] = 0.0;
@@ -201,28 +213,29 @@ public:
       }
     };
 
-    // r = b - A x, z = D^-1 r, p = z; sums of r.z, b.b, r.r.
-    ForBlocks(n, [&](std::int64_t blk, std::int64_t i0, std::int64_t i1) {
-      double acc[3 * (NC > 0 ? NC : 16)] = {};
-      std::vector<double> accDyn(NC > 0 ? 0 : 3 * nc, 0.0), y(nc);
-      double* s = NC > 0 ? acc : accDyn.data();
-      for (std::int64_t i = i0; i < i1; ++i)
+    // r = b - A x (r holds b on entry), p = D^-1 r; sums of r.z, b.b, r.r.
+    ForBlocks(n,
+      [&](std::int64_t blk, std::int64_t i0, std::int64_t i1)
       {
-        rowProduct(i, x.data(), y.data());
-        for (int c = 0; c < nc; ++c)
+        double acc[3 * (NC > 0 ? NC : 16)] = {};
+        std::vector<double> accDyn(NC > 0 ? 0 : 3 * nc, 0.0), y(nc);
+        double* s = NC > 0 ? acc : accDyn.data();
+        for (std::int64_t i = i0; i < i1; ++i)
         {
-          const std::int64_t ic = i * nc + c;
-          const double ri = bi[ic] - y[c], zi = dinv[i] * ri;
-          r[ic] = ri;
-          z[ic] = zi;
-          p[ic] = zi;
-          s[3 * c] += ri * zi;
-          s[3 * c + 1] += bi[ic] * bi[ic];
-          s[3 * c + 2] += ri * ri;
+          rowProduct(i, x.data(), y.data());
+          for (int c = 0; c < nc; ++c)
+          {
+            const std::int64_t ic = i * nc + c;
+            const double bic = r[ic], ri = bic - y[c], zi = dinv[i] * ri;
+            r[ic] = ri;
+            p[ic] = zi;
+            s[3 * c] += ri * zi;
+            s[3 * c + 1] += bic * bic;
+            s[3 * c + 2] += ri * ri;
+          }
         }
-      }
-      std::copy(s, s + 3 * nc, partial.data() + blk * 3 * nc);
-    });
+        std::copy(s, s + 3 * nc, partial.data() + blk * 3 * nc);
+      });
     ReduceBlocks(partial, nb, 3 * nc, sums.data());
     int nActive = 0;
     for (int c = 0; c < nc; ++c)
@@ -237,21 +250,23 @@ public:
     {
       ++it;
       // q = A p and p.q (converged columns are computed but not used).
-      ForBlocks(n, [&](std::int64_t blk, std::int64_t i0, std::int64_t i1) {
-        double acc[NC > 0 ? NC : 16] = {};
-        std::vector<double> accDyn(NC > 0 ? 0 : nc, 0.0);
-        double* s = NC > 0 ? acc : accDyn.data();
-        for (std::int64_t i = i0; i < i1; ++i)
+      ForBlocks(n,
+        [&](std::int64_t blk, std::int64_t i0, std::int64_t i1)
         {
-          double* qi = q.data() + i * nc;
-          rowProduct(i, p.data(), qi);
-          for (int c = 0; c < nc; ++c)
+          double acc[NC > 0 ? NC : 16] = {};
+          std::vector<double> accDyn(NC > 0 ? 0 : nc, 0.0);
+          double* s = NC > 0 ? acc : accDyn.data();
+          for (std::int64_t i = i0; i < i1; ++i)
           {
-            s[c] += p[i * nc + c] * qi[c];
+            double* qi = q.data() + i * nc;
+            rowProduct(i, p.data(), qi);
+            for (int c = 0; c < nc; ++c)
+            {
+              s[c] += p[i * nc + c] * qi[c];
+            }
           }
-        }
-        std::copy(s, s + nc, partial.data() + blk * nc);
-      });
+          std::copy(s, s + nc, partial.data() + blk * nc);
+        });
       ReduceBlocks(partial, nb, nc, sums.data());
       for (int c = 0; c < nc; ++c)
       {
@@ -261,27 +276,26 @@ public:
         }
         alpha[c] = active[c] ? rz[c] / sums[c] : 0.0;
       }
-      // x += alpha p, r -= alpha q, z = D^-1 r; sums of r.z and r.r.
-      ForBlocks(n, [&](std::int64_t blk, std::int64_t i0, std::int64_t i1) {
-        double acc[2 * (NC > 0 ? NC : 16)] = {};
-        std::vector<double> accDyn(NC > 0 ? 0 : 2 * nc, 0.0);
-        double* s = NC > 0 ? acc : accDyn.data();
-        for (std::int64_t i = i0; i < i1; ++i)
+      // r -= alpha q; sums of r.D^-1 r and r.r.
+      ForBlocks(n,
+        [&](std::int64_t blk, std::int64_t i0, std::int64_t i1)
         {
-          for (int c = 0; c < nc; ++c)
+          double acc[2 * (NC > 0 ? NC : 16)] = {};
+          std::vector<double> accDyn(NC > 0 ? 0 : 2 * nc, 0.0);
+          double* s = NC > 0 ? acc : accDyn.data();
+          for (std::int64_t i = i0; i < i1; ++i)
           {
-            const std::int64_t ic = i * nc + c;
-            x[ic] += alpha[c] * p[ic];
-            const double ri = r[ic] - alpha[c] * q[ic];
-            r[ic] = ri;
-            const double zi = dinv[i] * ri;
-            z[ic] = zi;
-            s[2 * c] += ri * zi;
-            s[2 * c + 1] += ri * ri;
+            for (int c = 0; c < nc; ++c)
+            {
+              const std::int64_t ic = i * nc + c;
+              const double ri = r[ic] - alpha[c] * q[ic];
+              r[ic] = ri;
+              s[2 * c] += ri * dinv[i] * ri;
+              s[2 * c + 1] += ri * ri;
+            }
           }
-        }
-        std::copy(s, s + 2 * nc, partial.data() + blk * 2 * nc);
-      });
+          std::copy(s, s + 2 * nc, partial.data() + blk * 2 * nc);
+        });
       ReduceBlocks(partial, nb, 2 * nc, sums.data());
       nActive = 0;
       for (int c = 0; c < nc; ++c)
@@ -295,21 +309,21 @@ public:
         active[c] = sums[2 * c + 1] > this->Tolerance * this->Tolerance * bb[c];
         nActive += active[c];
       }
-      if (nActive == 0)
-      {
-        break;
-      }
-      // p = z + beta p.
-      ForBlocks(n, [&](std::int64_t, std::int64_t i0, std::int64_t i1) {
-        for (std::int64_t i = i0; i < i1; ++i)
+      // x += alpha p (alpha is 0 for columns converged before this
+      // iteration), then p = D^-1 r + beta p for the columns still active.
+      ForBlocks(n,
+        [&](std::int64_t, std::int64_t i0, std::int64_t i1)
         {
-          for (int c = 0; c < nc; ++c)
+          for (std::int64_t i = i0; i < i1; ++i)
           {
-            const std::int64_t ic = i * nc + c;
-            p[ic] = active[c] ? z[ic] + beta[c] * p[ic] : p[ic];
+            for (int c = 0; c < nc; ++c)
+            {
+              const std::int64_t ic = i * nc + c;
+              x[ic] += alpha[c] * p[ic];
+              p[ic] = active[c] ? dinv[i] * r[ic] + beta[c] * p[ic] : p[ic];
+            }
           }
-        }
-      });
+        });
     }
     this->Iterations += it;
     for (int c = 0; c < nc; ++c)
@@ -328,6 +342,429 @@ private:
   Eigen::VectorXd InvDiag;
 };
 
+// Conjugate gradients preconditioned by a zero fill-in incomplete
+// factorisation A ~ L D L^T (IC(0)) in the surface's own order, block
+// Jacobi style: the rows are cut into fixed contiguous ranges (at least
+// ICBlockRows rows each, a count that depends on the size only) and the
+// couplings between ranges are left out of the factor, so that the ranges
+// are factorised and swept in parallel and the result does not depend on
+// the number of threads. The matrices are diagonally dominant with positive
+// diagonals (H-matrices), for which IC(0) exists; should rounding still give
+// a pivot <= 0, that solve falls back to the diagonal (Jacobi). The factor
+// is refreshed at every step (numeric only: pattern and index maps once).
+constexpr std::int64_t ICBlockRows = 16384;
+
+class ICSystem : public ATLinearSystem
+{
+public:
+  ICSystem(double tolerance, int maxIterations)
+    : Tolerance(tolerance)
+    , MaxIterations(maxIterations)
+  {
+  }
+
+  bool Analyze(const ATSystemMatrix& m) override
+  {
+    const std::int64_t n = m.cols();
+    const int* outer = m.outerIndexPtr();
+    const int* inner = m.innerIndexPtr();
+    const std::int64_t nBlocks = std::max<std::int64_t>(1, n / ICBlockRows);
+    this->Blocks.resize(nBlocks + 1);
+    for (std::int64_t b = 0; b <= nBlocks; ++b)
+    {
+      this->Blocks[b] = b * n / nBlocks;
+    }
+    this->LPtr.assign(n + 1, 0);
+    this->UPtr.assign(n + 1, 0);
+    this->DPos.assign(n, -1);
+    this->LCol.clear();
+    this->LPos.clear();
+    this->UCol.clear();
+    for (std::int64_t blk = 0; blk < nBlocks; ++blk)
+      for (std::int64_t i = this->Blocks[blk]; i < this->Blocks[blk + 1]; ++i)
+      {
+        for (int k = outer[i]; k < outer[i + 1]; ++k)
+        {
+          const int j = inner[k];
+          if (j < this->Blocks[blk] || j >= this->Blocks[blk + 1])
+          {
+            continue; // coupling between blocks: not in the factor
+          }
+          if (j < i)
+          {
+            this->LCol.push_back(j);
+            this->LPos.push_back(k);
+          }
+          else if (j == i)
+          {
+            this->DPos[i] = k;
+          }
+          else
+          {
+            this->UCol.push_back(j);
+          }
+        }
+        this->LPtr[i + 1] = static_cast<std::int64_t>(this->LCol.size());
+        this->UPtr[i + 1] = static_cast<std::int64_t>(this->UCol.size());
+        if (this->DPos[i] < 0)
+        {
+          return false;
+        }
+      }
+    // Upper entry (i, j) is L's (j, i): find it in row j (sorted columns).
+    this->UFromL.resize(this->UCol.size());
+    for (std::int64_t i = 0; i < n; ++i)
+    {
+      for (std::int64_t u = this->UPtr[i]; u < this->UPtr[i + 1]; ++u)
+      {
+        const int j = this->UCol[u];
+        const auto b = this->LCol.begin() + this->LPtr[j],
+                   e = this->LCol.begin() + this->LPtr[j + 1];
+        const auto it = std::lower_bound(b, e, static_cast<int>(i));
+        if (it == e || *it != i)
+        {
+          return false; // pattern not symmetric
+        }
+        this->UFromL[u] = it - this->LCol.begin();
+      }
+    }
+    return true;
+  }
+
+  bool Factorize(const ATSystemMatrix& m) override
+  {
+    const std::int64_t n = m.cols();
+    const double* val = m.valuePtr();
+    this->LVal.resize(this->LCol.size());
+    this->InvD.resize(n);
+    std::vector<double> d(n);
+    const std::int64_t nBlocks = static_cast<std::int64_t>(this->Blocks.size()) - 1;
+    std::vector<char> blockOk(nBlocks, 1);
+    vtkSMPTools::For(0,
+      nBlocks,
+      1,
+      [&](std::int64_t b0, std::int64_t b1)
+      {
+        for (std::int64_t blk = b0; blk < b1; ++blk)
+        {
+          for (std::int64_t i = this->Blocks[blk]; i < this->Blocks[blk + 1]; ++i)
+          {
+            const std::int64_t l0 = this->LPtr[i], l1 = this->LPtr[i + 1];
+            double di = val[this->DPos[i]];
+            for (std::int64_t kk = l0; kk < l1; ++kk)
+            {
+              const int j = this->LCol[kk];
+              // a_ij = sum_{m < j} l_im d_m l_jm + l_ij d_j over the common pattern.
+              double t = val[this->LPos[kk]];
+              std::int64_t a = l0, b = this->LPtr[j];
+              const std::int64_t bEnd = this->LPtr[j + 1];
+              while (a < kk && b < bEnd)
+              {
+                const int ca = this->LCol[a], cb = this->LCol[b];
+                if (ca == cb)
+                {
+                  t -= this->LVal[a] * d[ca] * this->LVal[b];
+                  ++a;
+                  ++b;
+                }
+                else if (ca < cb)
+                {
+                  ++a;
+                }
+                else
+                {
+                  ++b;
+                }
+              }
+              const double lij = t / d[j];
+              this->LVal[kk] = lij;
+              di -= lij * lij * d[j];
+            }
+            if (!(di > 0) || !std::isfinite(di))
+            {
+              blockOk[blk] = 0;
+              break;
+            }
+            d[i] = di;
+            this->InvD[i] = 1.0 / di;
+          }
+        }
+      });
+    if (std::find(blockOk.begin(), blockOk.end(), 0) != blockOk.end())
+    {
+      // Jacobi fallback: L = I, D = diag(A).
+      std::fill(this->LVal.begin(), this->LVal.end(), 0.0);
+      for (std::int64_t i = 0; i < n; ++i)
+      {
+        const double a = val[this->DPos[i]];
+        if (!(a > 0))
+        {
+          return false;
+        }
+        this->InvD[i] = 1.0 / a;
+      }
+      ++this->Fallbacks;
+    }
+    this->UVal.resize(this->UCol.size());
+    for (std::size_t u = 0; u < this->UCol.size(); ++u)
+    {
+      this->UVal[u] = this->LVal[this->UFromL[u]];
+    }
+    return true;
+  }
+
+  bool Solve(const ATSystemMatrix& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& x) override
+  {
+    switch (b.cols())
+    {
+      case 1:
+        return this->SolveN<1>(m, b, x, 1);
+      case 3:
+        return this->SolveN<3>(m, b, x, 3);
+      default:
+        return this->SolveN<0>(m, b, x, static_cast<int>(b.cols()));
+    }
+  }
+
+  // z = (L D L^T)^-1 r, all columns at once, block by block in parallel;
+  // returns r.z per column in rz (summed block by block, in order).
+  template<int NC>
+  void Precondition(const std::vector<double>& r, std::vector<double>& z, int ncRun, double* rz)
+  {
+    const int nc = NC > 0 ? NC : ncRun;
+    const std::int64_t nBlocks = static_cast<std::int64_t>(this->Blocks.size()) - 1;
+    this->Partial.assign(nBlocks * nc, 0.0);
+    vtkSMPTools::For(0,
+      nBlocks,
+      1,
+      [&](std::int64_t b0, std::int64_t b1)
+      {
+        for (std::int64_t blk = b0; blk < b1; ++blk)
+        {
+          const std::int64_t i0 = this->Blocks[blk], i1 = this->Blocks[blk + 1];
+          for (std::int64_t i = i0; i < i1; ++i)
+          {
+            double* zi = z.data() + i * nc;
+            for (int c = 0; c < nc; ++c)
+            {
+              zi[c] = r[i * nc + c];
+            }
+            for (std::int64_t kk = this->LPtr[i]; kk < this->LPtr[i + 1]; ++kk)
+            {
+              const double l = this->LVal[kk];
+              const double* zj = z.data() + static_cast<std::int64_t>(this->LCol[kk]) * nc;
+              for (int c = 0; c < nc; ++c)
+              {
+                zi[c] -= l * zj[c];
+              }
+            }
+          }
+          double* s = this->Partial.data() + blk * nc;
+          for (std::int64_t i = i1 - 1; i >= i0; --i)
+          {
+            double* zi = z.data() + i * nc;
+            for (int c = 0; c < nc; ++c)
+            {
+              zi[c] *= this->InvD[i];
+            }
+            for (std::int64_t u = this->UPtr[i]; u < this->UPtr[i + 1]; ++u)
+            {
+              const double l = this->UVal[u];
+              const double* zj = z.data() + static_cast<std::int64_t>(this->UCol[u]) * nc;
+              for (int c = 0; c < nc; ++c)
+              {
+                zi[c] -= l * zj[c];
+              }
+            }
+            for (int c = 0; c < nc; ++c)
+            {
+              s[c] += r[i * nc + c] * zi[c];
+            }
+          }
+        }
+      });
+    ReduceBlocks(this->Partial, nBlocks, nc, rz);
+  }
+
+  template<int NC>
+  bool SolveN(const ATSystemMatrix& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& xOut, int ncRun)
+  {
+    const int nc = NC > 0 ? NC : ncRun;
+    const std::int64_t n = m.cols();
+    if (xOut.rows() != n || xOut.cols() != nc)
+    {
+      xOut = Eigen::MatrixXd::Zero(n, nc);
+    }
+    const int* outer = m.outerIndexPtr();
+    const int* inner = m.innerIndexPtr();
+    const double* val = m.valuePtr();
+    std::vector<double> x(n * nc), r(n * nc), p(n * nc), q(n * nc), z(n * nc);
+    for (int c = 0; c < nc; ++c)
+    {
+      for (std::int64_t i = 0; i < n; ++i)
+      {
+        x[i * nc + c] = xOut(i, c);
+        r[i * nc + c] = b(i, c);
+      }
+    }
+    const std::int64_t nb = NumberOfBlocks(n);
+    std::vector<double> partial(nb * 2 * nc);
+    std::vector<double> sums(2 * nc);
+    std::vector<double> rz(nc), rzNew(nc), bb(nc), alpha(nc, 0.0), beta(nc, 0.0);
+    std::vector<char> active(nc, 1);
+    auto rowProduct = [&](std::int64_t i, const double* w, double* y)
+    {
+      for (int c = 0; c < nc; ++c)
+      {
+        y[c] = 0.0;
+      }
+      for (int k = outer[i]; k < outer[i + 1]; ++k)
+      {
+        const double a = val[k];
+        const double* wk = w + static_cast<std::int64_t>(inner[k]) * nc;
+        for (int c = 0; c < nc; ++c)
+        {
+          y[c] += a * wk[c];
+        }
+      }
+    };
+    // r = b - A x (r holds b on entry); sums of b.b and r.r.
+    ForBlocks(n,
+      [&](std::int64_t blk, std::int64_t i0, std::int64_t i1)
+      {
+        double acc[2 * (NC > 0 ? NC : 16)] = {};
+        std::vector<double> accDyn(NC > 0 ? 0 : 2 * nc, 0.0), y(nc);
+        double* s = NC > 0 ? acc : accDyn.data();
+        for (std::int64_t i = i0; i < i1; ++i)
+        {
+          rowProduct(i, x.data(), y.data());
+          for (int c = 0; c < nc; ++c)
+          {
+            const std::int64_t ic = i * nc + c;
+            const double bic = r[ic], ri = bic - y[c];
+            r[ic] = ri;
+            s[2 * c] += bic * bic;
+            s[2 * c + 1] += ri * ri;
+          }
+        }
+        std::copy(s, s + 2 * nc, partial.data() + blk * 2 * nc);
+      });
+    ReduceBlocks(partial, nb, 2 * nc, sums.data());
+    int nActive = 0;
+    for (int c = 0; c < nc; ++c)
+    {
+      bb[c] = sums[2 * c];
+      active[c] = sums[2 * c + 1] > this->Tolerance * this->Tolerance * bb[c];
+      nActive += active[c];
+    }
+    if (nActive > 0)
+    {
+      this->Precondition<NC>(r, z, nc, rz.data());
+      p = z;
+    }
+    int it = 0;
+    while (nActive > 0 && it < this->MaxIterations)
+    {
+      ++it;
+      // q = A p and p.q.
+      ForBlocks(n,
+        [&](std::int64_t blk, std::int64_t i0, std::int64_t i1)
+        {
+          double acc[NC > 0 ? NC : 16] = {};
+          std::vector<double> accDyn(NC > 0 ? 0 : nc, 0.0);
+          double* s = NC > 0 ? acc : accDyn.data();
+          for (std::int64_t i = i0; i < i1; ++i)
+          {
+            double* qi = q.data() + i * nc;
+            rowProduct(i, p.data(), qi);
+            for (int c = 0; c < nc; ++c)
+            {
+              s[c] += p[i * nc + c] * qi[c];
+            }
+          }
+          std::copy(s, s + nc, partial.data() + blk * nc);
+        });
+      ReduceBlocks(partial, nb, nc, sums.data());
+      for (int c = 0; c < nc; ++c)
+      {
+        if (active[c] && !(sums[c] > 0))
+        {
+          return false; // not positive definite (or NaN)
+        }
+        alpha[c] = active[c] ? rz[c] / sums[c] : 0.0;
+      }
+      // x += alpha p, r -= alpha q; sums of r.r.
+      ForBlocks(n,
+        [&](std::int64_t blk, std::int64_t i0, std::int64_t i1)
+        {
+          double acc[NC > 0 ? NC : 16] = {};
+          std::vector<double> accDyn(NC > 0 ? 0 : nc, 0.0);
+          double* s = NC > 0 ? acc : accDyn.data();
+          for (std::int64_t i = i0; i < i1; ++i)
+          {
+            for (int c = 0; c < nc; ++c)
+            {
+              const std::int64_t ic = i * nc + c;
+              x[ic] += alpha[c] * p[ic];
+              const double ri = r[ic] - alpha[c] * q[ic];
+              r[ic] = ri;
+              s[c] += ri * ri;
+            }
+          }
+          std::copy(s, s + nc, partial.data() + blk * nc);
+        });
+      ReduceBlocks(partial, nb, nc, sums.data());
+      nActive = 0;
+      for (int c = 0; c < nc; ++c)
+      {
+        active[c] = active[c] && sums[c] > this->Tolerance * this->Tolerance * bb[c];
+        nActive += active[c];
+      }
+      if (nActive == 0)
+      {
+        break;
+      }
+      this->Precondition<NC>(r, z, nc, rzNew.data());
+      for (int c = 0; c < nc; ++c)
+      {
+        beta[c] = active[c] ? rzNew[c] / rz[c] : 0.0;
+        rz[c] = rzNew[c];
+      }
+      // p = z + beta p.
+      ForBlocks(n,
+        [&](std::int64_t, std::int64_t i0, std::int64_t i1)
+        {
+          for (std::int64_t i = i0; i < i1; ++i)
+          {
+            for (int c = 0; c < nc; ++c)
+            {
+              const std::int64_t ic = i * nc + c;
+              p[ic] = active[c] ? z[ic] + beta[c] * p[ic] : p[ic];
+            }
+          }
+        });
+    }
+    this->Iterations += it;
+    for (int c = 0; c < nc; ++c)
+    {
+      for (std::int64_t i = 0; i < n; ++i)
+      {
+        xOut(i, c) = x[i * nc + c];
+      }
+    }
+    return nActive == 0 && xOut.allFinite();
+  }
+
+  int Fallbacks = 0;
+
+private:
+  double Tolerance;
+  int MaxIterations;
+  std::vector<std::int64_t> Blocks, LPtr, UPtr, UFromL;
+  std::vector<int> LCol, LPos, UCol, DPos;
+  std::vector<double> LVal, UVal, InvD, Partial;
+};
+
 std::unique_ptr<ATLinearSystem> MakeSystem(const ATParameters& p)
 {
   switch (p.Solver)
@@ -342,10 +779,11 @@ std::unique_ptr<ATLinearSystem> MakeSystem(const ATParameters& p)
 #else
       return nullptr;
 #endif
+    case ATLinearSolver::ConjugateGradientIC:
+      return std::unique_ptr<ATLinearSystem>(new ICSystem(p.CGTolerance, p.CGMaximumIterations));
     case ATLinearSolver::ConjugateGradient:
     default:
-      return std::unique_ptr<ATLinearSystem>(
-        new CGSystem(p.CGTolerance, p.CGMaximumIterations));
+      return std::unique_ptr<ATLinearSystem>(new CGSystem(p.CGTolerance, p.CGMaximumIterations));
   }
 }
 } // namespace
@@ -367,6 +805,8 @@ const char* ATLinearSolverName(ATLinearSolver s)
       return "SimplicialLDLT";
     case ATLinearSolver::Cholmod:
       return "Cholmod";
+    case ATLinearSolver::ConjugateGradientIC:
+      return "ConjugateGradientIC";
     case ATLinearSolver::ConjugateGradient:
     default:
       return "ConjugateGradient";
@@ -441,31 +881,36 @@ void ATSolver::AssembleU()
   const std::int64_t ne = K.NumberOfEdges(), nf = K.NumberOfFaces();
   // w(e) = ((M v)_e)^2, the weight of edge e in B^T diag(Mv)^2 B.
   std::vector<double> w(ne);
-  ForBlocks(ne, [&](std::int64_t, std::int64_t e0, std::int64_t e1) {
-    for (std::int64_t e = e0; e < e1; ++e)
+  ForBlocks(ne,
+    [&](std::int64_t, std::int64_t e0, std::int64_t e1)
     {
-      const double m = 0.5 * (this->v[K.EdgeVertices[2 * e]] + this->v[K.EdgeVertices[2 * e + 1]]);
-      w[e] = m * m;
-    }
-  });
+      for (std::int64_t e = e0; e < e1; ++e)
+      {
+        const double m =
+          0.5 * (this->v[K.EdgeVertices[2 * e]] + this->v[K.EdgeVertices[2 * e + 1]]);
+        w[e] = m * m;
+      }
+    });
   const int* outer = this->UM.outerIndexPtr();
   double* val = this->UM.valuePtr();
   const double alpha = this->Params.Alpha;
-  ForBlocks(nf, [&](std::int64_t, std::int64_t f0, std::int64_t f1) {
-    for (std::int64_t f = f0; f < f1; ++f)
+  ForBlocks(nf,
+    [&](std::int64_t, std::int64_t f0, std::int64_t f1)
     {
-      for (int k = outer[f]; k < outer[f + 1]; ++k)
+      for (std::int64_t f = f0; f < f1; ++f)
       {
-        double s = 0;
-        for (std::int64_t j = K.UContribPtr[k]; j < K.UContribPtr[k + 1]; ++j)
+        for (int k = outer[f]; k < outer[f + 1]; ++k)
         {
-          s += K.UContribCoef[j] * w[K.UContribEdge[j]];
+          double s = 0;
+          for (std::int64_t j = K.UContribPtr[k]; j < K.UContribPtr[k + 1]; ++j)
+          {
+            s += K.UContribCoef[j] * w[K.UContribEdge[j]];
+          }
+          val[k] = s;
         }
-        val[k] = s;
+        val[K.UDiagonal[f]] += alpha;
       }
-      val[K.UDiagonal[f]] += alpha;
-    }
-  });
+    });
 }
 
 void ATSolver::AssembleV(double epsilon)
@@ -475,53 +920,60 @@ void ATSolver::AssembleV(double epsilon)
   const int nc = static_cast<int>(this->u.cols());
   // q(e) = sum_i ((B u_i)_e)^2: the squared jump of u across edge e.
   std::vector<double> q(ne);
-  ForBlocks(ne, [&](std::int64_t, std::int64_t e0, std::int64_t e1) {
-    for (std::int64_t e = e0; e < e1; ++e)
+  ForBlocks(ne,
+    [&](std::int64_t, std::int64_t e0, std::int64_t e1)
     {
-      double s = 0;
-      // Boundary edges carry no jump (dgATOperators.h).
-      for (int c = 0; c < nc && K.EdgeFacePtr[e + 1] - K.EdgeFacePtr[e] > 1; ++c)
+      for (std::int64_t e = e0; e < e1; ++e)
       {
-        double d = 0;
-        for (std::int64_t i = K.EdgeFacePtr[e]; i < K.EdgeFacePtr[e + 1]; ++i)
+        double s = 0;
+        // Boundary edges carry no jump (dgATOperators.h).
+        for (int c = 0; c < nc && K.EdgeFacePtr[e + 1] - K.EdgeFacePtr[e] > 1; ++c)
         {
-          d += K.EdgeFaceSigns[i] * this->u(K.EdgeFaces[i], c);
+          double d = 0;
+          for (std::int64_t i = K.EdgeFacePtr[e]; i < K.EdgeFacePtr[e + 1]; ++i)
+          {
+            d += K.EdgeFaceSigns[i] * this->u(K.EdgeFaces[i], c);
+          }
+          s += d * d;
         }
-        s += d * d;
+        q[e] = s;
       }
-      q[e] = s;
-    }
-  });
+    });
   const double lambda = this->Params.Lambda;
   const double diagConst = lambda / (4 * epsilon), lapl = lambda * epsilon;
   const int* outer = this->VM.outerIndexPtr();
   double* val = this->VM.valuePtr();
-  ForBlocks(nv, [&](std::int64_t, std::int64_t a0, std::int64_t a1) {
-    for (std::int64_t a = a0; a < a1; ++a)
+  ForBlocks(nv,
+    [&](std::int64_t, std::int64_t a0, std::int64_t a1)
     {
-      for (int k = outer[a]; k < outer[a + 1]; ++k)
+      for (std::int64_t a = a0; a < a1; ++a)
       {
-        const int e = K.VEdge[k];
-        if (e >= 0)
+        for (int k = outer[a]; k < outer[a + 1]; ++k)
         {
-          val[k] = -lapl + 0.25 * q[e];
-        }
-        else
-        {
-          double s = 0;
-          for (std::int64_t j = K.VertexEdgePtr[a]; j < K.VertexEdgePtr[a + 1]; ++j)
+          const int e = K.VEdge[k];
+          if (e >= 0)
           {
-            s += q[K.VertexEdges[j]];
+            val[k] = -lapl + 0.25 * q[e];
           }
-          val[k] = diagConst + lapl * (K.VertexEdgePtr[a + 1] - K.VertexEdgePtr[a]) + 0.25 * s;
+          else
+          {
+            double s = 0;
+            for (std::int64_t j = K.VertexEdgePtr[a]; j < K.VertexEdgePtr[a + 1]; ++j)
+            {
+              s += q[K.VertexEdges[j]];
+            }
+            val[k] = diagConst + lapl * (K.VertexEdgePtr[a + 1] - K.VertexEdgePtr[a]) + 0.25 * s;
+          }
         }
       }
-    }
-  });
+    });
 }
 
-bool ATSolver::SolveSystem(ATLinearSystem& system, const ATSystemMatrix& m,
-  const Eigen::MatrixXd& b, Eigen::MatrixXd& x, const char* name)
+bool ATSolver::SolveSystem(ATLinearSystem& system,
+  const ATSystemMatrix& m,
+  const Eigen::MatrixXd& b,
+  Eigen::MatrixXd& x,
+  const char* name)
 {
   auto t0 = Clock::now();
   if (!system.Analyzed)
@@ -604,14 +1056,16 @@ double ATSolver::Energy(double epsilon) const
   {
     const std::int64_t nb = NumberOfBlocks(nf);
     std::vector<double> part(nb);
-    ForBlocks(nf, [&](std::int64_t b, std::int64_t f0, std::int64_t f1) {
-      double s = 0;
-      for (std::int64_t f = f0; f < f1; ++f)
+    ForBlocks(nf,
+      [&](std::int64_t b, std::int64_t f0, std::int64_t f1)
       {
-        s += (this->u.row(f) - this->g.row(f)).squaredNorm();
-      }
-      part[b] = s;
-    });
+        double s = 0;
+        for (std::int64_t f = f0; f < f1; ++f)
+        {
+          s += (this->u.row(f) - this->g.row(f)).squaredNorm();
+        }
+        part[b] = s;
+      });
     double s;
     ReduceBlocks(part, nb, 1, &s);
     total += this->Params.Alpha * s;
@@ -619,25 +1073,27 @@ double ATSolver::Energy(double epsilon) const
   {
     const std::int64_t nb = NumberOfBlocks(ne);
     std::vector<double> part(nb);
-    ForBlocks(ne, [&](std::int64_t b, std::int64_t e0, std::int64_t e1) {
-      double s = 0;
-      for (std::int64_t e = e0; e < e1; ++e)
+    ForBlocks(ne,
+      [&](std::int64_t b, std::int64_t e0, std::int64_t e1)
       {
-        const double va = this->v[K.EdgeVertices[2 * e]], vb = this->v[K.EdgeVertices[2 * e + 1]];
-        const double m = 0.5 * (va + vb);
-        for (int c = 0; c < nc && K.EdgeFacePtr[e + 1] - K.EdgeFacePtr[e] > 1; ++c)
+        double s = 0;
+        for (std::int64_t e = e0; e < e1; ++e)
         {
-          double d = 0;
-          for (std::int64_t i = K.EdgeFacePtr[e]; i < K.EdgeFacePtr[e + 1]; ++i)
+          const double va = this->v[K.EdgeVertices[2 * e]], vb = this->v[K.EdgeVertices[2 * e + 1]];
+          const double m = 0.5 * (va + vb);
+          for (int c = 0; c < nc && K.EdgeFacePtr[e + 1] - K.EdgeFacePtr[e] > 1; ++c)
           {
-            d += K.EdgeFaceSigns[i] * this->u(K.EdgeFaces[i], c);
+            double d = 0;
+            for (std::int64_t i = K.EdgeFacePtr[e]; i < K.EdgeFacePtr[e + 1]; ++i)
+            {
+              d += K.EdgeFaceSigns[i] * this->u(K.EdgeFaces[i], c);
+            }
+            s += m * m * d * d;
           }
-          s += m * m * d * d;
+          s += lambda * epsilon * (vb - va) * (vb - va);
         }
-        s += lambda * epsilon * (vb - va) * (vb - va);
-      }
-      part[b] = s;
-    });
+        part[b] = s;
+      });
     double s;
     ReduceBlocks(part, nb, 1, &s);
     total += s;
@@ -645,14 +1101,16 @@ double ATSolver::Energy(double epsilon) const
   {
     const std::int64_t nb = NumberOfBlocks(nv);
     std::vector<double> part(nb);
-    ForBlocks(nv, [&](std::int64_t b, std::int64_t a0, std::int64_t a1) {
-      double s = 0;
-      for (std::int64_t a = a0; a < a1; ++a)
+    ForBlocks(nv,
+      [&](std::int64_t b, std::int64_t a0, std::int64_t a1)
       {
-        s += (1 - this->v[a]) * (1 - this->v[a]);
-      }
-      part[b] = s;
-    });
+        double s = 0;
+        for (std::int64_t a = a0; a < a1; ++a)
+        {
+          s += (1 - this->v[a]) * (1 - this->v[a]);
+        }
+        part[b] = s;
+      });
     double s;
     ReduceBlocks(part, nb, 1, &s);
     total += lambda / (4 * epsilon) * s;
@@ -662,16 +1120,18 @@ double ATSolver::Energy(double epsilon) const
 
 void ATSolver::NormalizeU()
 {
-  ForBlocks(this->u.rows(), [&](std::int64_t, std::int64_t f0, std::int64_t f1) {
-    for (std::int64_t f = f0; f < f1; ++f)
+  ForBlocks(this->u.rows(),
+    [&](std::int64_t, std::int64_t f0, std::int64_t f1)
     {
-      const double n = this->u.row(f).norm();
-      if (n > 0)
+      for (std::int64_t f = f0; f < f1; ++f)
       {
-        this->u.row(f) /= n;
+        const double n = this->u.row(f).norm();
+        if (n > 0)
+        {
+          this->u.row(f) /= n;
+        }
       }
-    }
-  });
+    });
 }
 
 bool ATSolver::Run(const Eigen::MatrixXd& field, const ATProgressCallback& progress)
@@ -686,7 +1146,7 @@ bool ATSolver::Run(const Eigen::MatrixXd& field, const ATProgressCallback& progr
   if (field.rows() != this->Complex.NumberOfFaces() || field.cols() < 1)
   {
     this->ErrorText = "the field has " + std::to_string(field.rows()) + " rows for " +
-      std::to_string(this->Complex.NumberOfFaces()) + " faces";
+                      std::to_string(this->Complex.NumberOfFaces()) + " faces";
     return false;
   }
   if (this->Params.Solver == ATLinearSolver::Cholmod && !CholmodAvailable())
@@ -719,7 +1179,7 @@ bool ATSolver::Run(const Eigen::MatrixXd& field, const ATProgressCallback& progr
       ++this->Stats.Iterations;
       const double change = (this->v - vPrev).lpNorm<Eigen::Infinity>();
       if (progress &&
-        !progress((static_cast<double>(l) * this->Params.MaximumIterations + it + 1) / steps))
+          !progress((static_cast<double>(l) * this->Params.MaximumIterations + it + 1) / steps))
       {
         return false;
       }

@@ -8,22 +8,30 @@
 // refactorises numerically, and the iterative solver just reads the values.
 //
 // Linear solvers (ATLinearSolver):
-// - ConjugateGradient (default): Jacobi-preconditioned CG, warm-started from
-//   the previous u and v, all C right-hand sides of the u-system in one sweep
+// - ConjugateGradientIC (default): CG preconditioned by a zero fill-in
+//   incomplete factorisation L D L^T, block-Jacobi style over fixed row
+//   ranges (parallel, thread-count independent), warm-started from the
+//   previous u and v, all C right-hand sides of the u-system in one sweep
 //   over the matrix, stopped when ||r||_2 <= CGTolerance ||b||_2 for every
-//   column. Products and reductions run over fixed blocks with vtkSMPTools,
-//   so the result is bitwise identical whatever the number of threads.
+//   column.
+// - ConjugateGradient: the same with the diagonal (Jacobi) preconditioner.
 // - SimplicialLDLT: Eigen's sparse LDL^T (AMD ordering once, numeric
 //   factorisation per step). The exact reference.
 // - Cholmod: CHOLMOD's supernodal Cholesky through Eigen's CholmodSupport,
 //   when the module was built with it (CholmodAvailable()).
+// Products and reductions run over fixed blocks with vtkSMPTools, so every
+// iterative result is bitwise identical whatever the number of threads.
 //
-// Why CG is the default (BenchAT, 2 cores, paper's parameters, 20 steps):
-// it is 4-6x faster than SimplicialLDLT already at 50k faces (1.6 s against
-// 8.8 s; CHOLMOD with Debian's reference BLAS: 14.7 s), the direct solvers'
-// refactorisation (fill-in on a closed surface) grows faster than the
-// surface, and at CGTolerance 1e-8 the final u and v differ from the LDL^T
-// result by less than 1.5e-7 (absolute; u is unit, v in [0, 1]).
+// Why (BenchAT, 2 cores, paper's parameters, 20 steps, medians): the CGs are
+// 5-7x faster than SimplicialLDLT already at 50k faces (IC 0.88-0.95 s,
+// Jacobi 1.07-1.23 s, LDL^T 6.4-6.7 s; CHOLMOD with Debian's reference BLAS
+// is slower still), and the direct solvers' refactorisation (fill-in on a
+// closed surface) grows faster than the surface. IC(0) needs 2.2-2.8x fewer
+// iterations than Jacobi; each costs about twice as much memory traffic, so
+// it is 1.2-1.6x faster up to 128^3, where vectors are partly cache-resident,
+// and on a par on octa-flower 512^3 (12.8 s against 13.2 s), where both are
+// bound by memory bandwidth. At CGTolerance 1e-8 the final u and v differ
+// from the LDL^T result by less than 1e-7 (absolute; u is unit, v in [0, 1]).
 #ifndef dgATSolver_h
 #define dgATSolver_h
 
@@ -44,7 +52,8 @@ enum class ATLinearSolver
 {
   ConjugateGradient = 0,
   SimplicialLDLT = 1,
-  Cholmod = 2
+  Cholmod = 2,
+  ConjugateGradientIC = 3
 };
 
 /// True when CHOLMOD was found at build time.
@@ -62,7 +71,7 @@ struct ATParameters
   int MaximumIterations = 5; // u-step + v-step pairs per epsilon level
   double Tolerance = 1e-4;   // on ||v - v_prev||_inf
   bool Normalize = true;     // unit-length u at the end (skip zero vectors)
-  ATLinearSolver Solver = ATLinearSolver::ConjugateGradient;
+  ATLinearSolver Solver = ATLinearSolver::ConjugateGradientIC;
   double CGTolerance = 1e-8; // relative residual per right-hand side
   int CGMaximumIterations = 5000;
 

@@ -304,7 +304,8 @@ int vtkAmbrosioTortorelliFilter::RequestData(
 void vtkAmbrosioTortorelliFilter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  const char* solvers[] = { "ConjugateGradient", "SimplicialLDLT", "Cholmod" };
+  const char* solvers[] = { "ConjugateGradient", "SimplicialLDLT", "Cholmod",
+    "ConjugateGradientIC" };
   os << indent << "Alpha: " << this->Alpha << "\n";
   os << indent << "Lambda: " << this->Lambda << "\n";
   os << indent << "EpsilonStart: " << this->EpsilonStart << "\n";

@@ -135,17 +135,20 @@ public:
   {
     CONJUGATE_GRADIENT = 0,
     SIMPLICIAL_LDLT = 1,
-    CHOLMOD = 2
+    CHOLMOD = 2,
+    CONJUGATE_GRADIENT_IC = 3
   };
 
   ///@{
   /**
-   * Linear solver (default CONJUGATE_GRADIENT, with relative residual
-   * SolverTolerance, default 1e-8). SIMPLICIAL_LDLT is Eigen's exact sparse
-   * factorisation; CHOLMOD is used only when the module was built with it
-   * (otherwise SIMPLICIAL_LDLT, with a warning).
+   * Linear solver (default CONJUGATE_GRADIENT_IC: conjugate gradients with
+   * an incomplete-Cholesky preconditioner; CONJUGATE_GRADIENT uses the
+   * diagonal instead; both stop at the relative residual SolverTolerance,
+   * default 1e-8). SIMPLICIAL_LDLT is Eigen's exact sparse factorisation;
+   * CHOLMOD is used only when the module was built with it (otherwise
+   * SIMPLICIAL_LDLT, with a warning). dgATSolver.h gives the measurements.
    */
-  vtkSetClampMacro(LinearSolver, int, CONJUGATE_GRADIENT, CHOLMOD);
+  vtkSetClampMacro(LinearSolver, int, CONJUGATE_GRADIENT, CONJUGATE_GRADIENT_IC);
   vtkGetMacro(LinearSolver, int);
   vtkSetMacro(SolverTolerance, double);
   vtkGetMacro(SolverTolerance, double);
@@ -172,7 +175,7 @@ protected:
   double Tolerance = 1e-4;
   double FeatureThreshold = 0.5;
   bool NormalizeVectorField = true;
-  int LinearSolver = CONJUGATE_GRADIENT;
+  int LinearSolver = CONJUGATE_GRADIENT_IC;
   double SolverTolerance = 1e-8;
   int NumberOfIterations = 0;
 

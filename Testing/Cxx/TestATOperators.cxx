@@ -414,7 +414,7 @@ TEST(ATOperators, OneStepEqualsDenseSolve)
   const dg::ATComplex c = Build(FromPolyData(pd));
   const Eigen::MatrixXd g = TrivialNormalsPlusNoise(pd, 0.4, 5);
   for (auto solver : { dg::ATLinearSolver::ConjugateGradient, dg::ATLinearSolver::SimplicialLDLT,
-         dg::ATLinearSolver::Cholmod })
+         dg::ATLinearSolver::Cholmod, dg::ATLinearSolver::ConjugateGradientIC })
   {
     if (solver == dg::ATLinearSolver::Cholmod && !dg::CholmodAvailable())
     {
@@ -459,7 +459,8 @@ TEST(ATOperators, EnergyDecreasesWithinEachLevel)
   shapes.push_back(Surface(dgtest::Digitize(*cube, 25)));
   auto cs = dgtest::MakeCubeSphere(Eigen::Vector3d(12.1, 11.9, 12.2), 8, 10);
   shapes.push_back(Surface(dgtest::Digitize(*cs, 25)));
-  for (auto solver : { dg::ATLinearSolver::SimplicialLDLT, dg::ATLinearSolver::ConjugateGradient })
+  for (auto solver : { dg::ATLinearSolver::SimplicialLDLT, dg::ATLinearSolver::ConjugateGradient,
+         dg::ATLinearSolver::ConjugateGradientIC })
   {
     for (std::size_t k = 0; k < shapes.size(); ++k)
     {
@@ -509,12 +510,18 @@ TEST(ATOperators, SolversAgreeAndRunIsDeterministic)
   auto ldlt = run(dg::ATLinearSolver::SimplicialLDLT, 2);
   auto cg2 = run(dg::ATLinearSolver::ConjugateGradient, 2);
   auto cg1 = run(dg::ATLinearSolver::ConjugateGradient, 1);
+  auto ic2 = run(dg::ATLinearSolver::ConjugateGradientIC, 2);
+  auto ic1 = run(dg::ATLinearSolver::ConjugateGradientIC, 1);
   vtkSMPTools::Initialize(2);
   auto rel = [](const Eigen::MatrixXd& x, const Eigen::MatrixXd& ref) {
     return MaxAbs(x - ref) / MaxAbs(ref);
   };
   EXPECT_LT(rel(cg2->U(), ldlt->U()), 1e-6);
   EXPECT_LT(rel(cg2->V(), ldlt->V()), 1e-6);
+  EXPECT_LT(rel(ic2->U(), ldlt->U()), 1e-6);
+  EXPECT_LT(rel(ic2->V(), ldlt->V()), 1e-6);
+  // IC(0) needs fewer iterations than Jacobi on the same systems.
+  EXPECT_LT(ic2->Statistics().CGIterations, cg2->Statistics().CGIterations);
   if (dg::CholmodAvailable())
   {
     auto chol = run(dg::ATLinearSolver::Cholmod, 2);
@@ -524,6 +531,8 @@ TEST(ATOperators, SolversAgreeAndRunIsDeterministic)
   // Bitwise identical whatever the thread count.
   EXPECT_EQ(MaxAbs(cg1->U() - cg2->U()), 0.0);
   EXPECT_EQ(MaxAbs(cg1->V() - cg2->V()), 0.0);
+  EXPECT_EQ(MaxAbs(ic1->U() - ic2->U()), 0.0);
+  EXPECT_EQ(MaxAbs(ic1->V() - ic2->V()), 0.0);
   // The run did find the cube's edges: some v well below 1/2.
   EXPECT_LT(ldlt->V().minCoeff(), 0.2);
   // Unit-length u after the run.
@@ -549,4 +558,32 @@ TEST(ATOperators, InvalidParametersAreReported)
   check([](dg::ATParameters& p) { p.EpsilonRatio = 1; }, "EpsilonRatio");
   check([](dg::ATParameters& p) { p.MaximumIterations = 0; }, "MaximumIterations");
   EXPECT_TRUE(dg::ATParameters().Check().empty());
+}
+
+// A linear solve that cannot meet its tolerance (one CG iteration allowed)
+// must not stop the run nor corrupt it: every step keeps the previous values
+// and says so.
+TEST(ATOperators, FailedSolvesWarnAndKeepPreviousValues)
+{
+  auto pd = Surface(dgtest::Ball(12, 4.3));
+  const dg::ATComplex c = Build(FromPolyData(pd));
+  const Eigen::MatrixXd g = TrivialNormalsPlusNoise(pd, 0.3, 3);
+  for (auto solver : { dg::ATLinearSolver::ConjugateGradient,
+         dg::ATLinearSolver::ConjugateGradientIC })
+  {
+    dg::ATParameters params;
+    params.Solver = solver;
+    params.CGTolerance = 1e-14;
+    params.CGMaximumIterations = 1;
+    dg::ATSolver s(c, params);
+    ASSERT_TRUE(s.Run(g)) << s.Error();
+    EXPECT_EQ(s.Statistics().FailedSolves, 2 * s.Statistics().Iterations);
+    ASSERT_FALSE(s.Warnings().empty());
+    EXPECT_NE(s.Warnings().front().find("linear solve failed"), std::string::npos)
+      << s.Warnings().front();
+    EXPECT_EQ((s.V().array() - 1.0).abs().maxCoeff(), 0.0);
+    Eigen::MatrixXd gn = g;
+    gn.rowwise().normalize();
+    EXPECT_LT(MaxAbs(s.U() - gn), 1e-15);
+  }
 }
