@@ -115,62 +115,65 @@ def main():
       f"Seeds per case: " + "; ".join(
           f"{n}³: " + ", ".join(f"k={k:g}: {len(seeds[(n, k)])}" for k in noise[n]) for n in sizes) + ".")
     w("")
-    for region, title in (("near", "near sharp edges (≤ 2 voxels)"), ("away", "away from sharp edges")):
-        w(f"### Mean angular error {title}, {main_n}³, average over {', '.join(edge_shapes)}")
+    # Averages over shapes, one set of tables per size.
+    for main_n in sizes:
+        ks = noise[main_n]
+        for region, title in (("near", "near sharp edges (≤ 2 voxels)"), ("away", "away from sharp edges")):
+            w(f"### Mean angular error {title}, {main_n}³, average over {', '.join(edge_shapes)}")
+            w("")
+            w("| method | " + " | ".join(f"k={k:g}" for k in ks) + " |")
+            w("|---|" + "---:|" * len(ks))
+            for m in METHODS:
+                vals = [Eavg(edge_shapes, main_n, k, m, region) for k in ks]
+                best = [min(Eavg(edge_shapes, main_n, k, mm, region) for mm in METHODS) for k in ks]
+                cells_ = [("**" + fmt(v) + "**") if abs(v - b) < 1e-9 else fmt(v) for v, b in zip(vals, best)]
+                w(f"| {m} | " + " | ".join(cells_) + " |")
+            w("")
+        if "sphere" in shapes_present:
+            w(f"### Sphere (no sharp edge), {main_n}³: mean / 95th percentile angular error")
+            w("")
+            w("| method | " + " | ".join(f"k={k:g}" for k in ks) + " |")
+            w("|---|" + "---:|" * len(ks))
+            for m in METHODS:
+                w(f"| {m} | " + " | ".join(
+                    fmt(E("sphere", main_n, k, m, "all")) + " / " + fmt(E("sphere", main_n, k, m, "all", "p95"))
+                    for k in ks) + " |")
+            w("")
+        kk = [k for k in ks if k in (0.0, 0.3, 0.5)]
+        w(f"### Mean error by distance d to the nearest sharp edge, {main_n}³: near (d ≤ 2) / mid (2 < d ≤ 8) / far (d > 8)")
         w("")
-        w("| method | " + " | ".join(f"k={k:g}" for k in ks) + " |")
-        w("|---|" + "---:|" * len(ks))
+        w("The II r = 8 ball reaches across an edge up to d = 8: 'mid' is where a piecewise-smooth "
+          "reconstruction should beat II r = 8, 'far' is plain smooth surface.")
+        w("")
+        w("| method | " + " | ".join(f"k={k:g}" for k in kk) + " |")
+        w("|---|" + "---:|" * len(kk))
         for m in METHODS:
-            vals = [Eavg(edge_shapes, main_n, k, m, region) for k in ks]
-            best = [min(Eavg(edge_shapes, main_n, k, mm, region) for mm in METHODS) for k in ks]
-            cells_ = [("**" + fmt(v) + "**") if abs(v - b) < 1e-9 else fmt(v) for v, b in zip(vals, best)]
-            w(f"| {m} | " + " | ".join(cells_) + " |")
+            w(f"| {m} | " + " | ".join(" / ".join(fmt(Eavg(edge_shapes, main_n, k, m, reg)) for reg in ("near", "mid", "far"))
+                                       for k in kk) + " |")
         w("")
-    if "sphere" in shapes_present:
-        w(f"### Sphere (no sharp edge), {main_n}³: mean / 95th percentile angular error")
+        w(f"### Median and 95th percentile near edges, {main_n}³ (median / p95, average over shapes with edges)")
         w("")
         w("| method | " + " | ".join(f"k={k:g}" for k in ks) + " |")
         w("|---|" + "---:|" * len(ks))
         for m in METHODS:
             w(f"| {m} | " + " | ".join(
-                fmt(E("sphere", main_n, k, m, "all")) + " / " + fmt(E("sphere", main_n, k, m, "all", "p95"))
-                for k in ks) + " |")
+                fmt(Eavg(edge_shapes, main_n, k, m, "near", "median")) + " / " +
+                fmt(Eavg(edge_shapes, main_n, k, m, "near", "p95")) for k in ks) + " |")
         w("")
-    kk = [k for k in ks if k in (0.0, 0.3, 0.5)]
-    w(f"### Mean error by distance d to the nearest sharp edge, {main_n}³: near (d ≤ 2) / mid (2 < d ≤ 8) / far (d > 8)")
-    w("")
-    w("The II r = 8 ball reaches across an edge up to d = 8: 'mid' is where a piecewise-smooth "
-      "reconstruction should beat II r = 8, 'far' is plain smooth surface.")
-    w("")
-    w("| method | " + " | ".join(f"k={k:g}" for k in kk) + " |")
-    w("|---|" + "---:|" * len(kk))
-    for m in METHODS:
-        w(f"| {m} | " + " | ".join(" / ".join(fmt(Eavg(edge_shapes, main_n, k, m, reg)) for reg in ("near", "mid", "far"))
-                                   for k in kk) + " |")
-    w("")
-    w(f"### Median and 95th percentile near edges, {main_n}³ (median / p95, average over shapes with edges)")
-    w("")
-    w("| method | " + " | ".join(f"k={k:g}" for k in ks) + " |")
-    w("|---|" + "---:|" * len(ks))
-    for m in METHODS:
-        w(f"| {m} | " + " | ".join(
-            fmt(Eavg(edge_shapes, main_n, k, m, "near", "median")) + " / " +
-            fmt(Eavg(edge_shapes, main_n, k, m, "near", "p95")) for k in ks) + " |")
-    w("")
-    w(f"### Feature edges, {main_n}³: precision / recall / F1 (precision by length; average over shapes with edges)")
-    w("")
-    w("| method | " + " | ".join(f"k={k:g}" for k in ks) + " |")
-    w("|---|" + "---:|" * len(ks))
-    for m in FEATURE_METHODS:
-        w(f"| {m} | " + " | ".join(
-            fmt(Favg(edge_shapes, main_n, k, m, "precision"), 2) + " / " +
-            fmt(Favg(edge_shapes, main_n, k, m, "recall"), 2) + " / " +
-            fmt(Favg(edge_shapes, main_n, k, m, "f1"), 2) for k in ks) + " |")
-    if "sphere" in shapes_present:
-        w("| false edge length on the sphere (voxels): | | | | | | |")
+        w(f"### Feature edges, {main_n}³: precision / recall / F1 (precision by length; average over shapes with edges)")
+        w("")
+        w("| method | " + " | ".join(f"k={k:g}" for k in ks) + " |")
+        w("|---|" + "---:|" * len(ks))
         for m in FEATURE_METHODS:
-            w(f"| {m} | " + " | ".join(fmt(Fs("sphere", main_n, k, m, "length"), 0) for k in ks) + " |")
-    w("")
+            w(f"| {m} | " + " | ".join(
+                fmt(Favg(edge_shapes, main_n, k, m, "precision"), 2) + " / " +
+                fmt(Favg(edge_shapes, main_n, k, m, "recall"), 2) + " / " +
+                fmt(Favg(edge_shapes, main_n, k, m, "f1"), 2) for k in ks) + " |")
+        if "sphere" in shapes_present:
+            w("| false edge length on the sphere (voxels): | | | | | | |")
+            for m in FEATURE_METHODS:
+                w(f"| {m} | " + " | ".join(fmt(Fs("sphere", main_n, k, m, "length"), 0) for k in ks) + " |")
+        w("")
 
     # Per shape, per size, every k: mean near / away and F1 for the main methods.
     for n in sizes:
@@ -243,7 +246,9 @@ def main():
         for n, k in tk) + " |")
     w("")
 
-    # Plots.
+    # Plots: the smallest size, which has the most seeds per case.
+    main_n = sizes[0]
+    ks = noise[main_n]
     styles = {"trivial": ("0.6", ":"), "II-r3": ("tab:olive", "--"), "II-r4": ("tab:green", "--"),
               "II-r8": ("tab:cyan", "--"), "AT(II4)": ("tab:red", "-"), "AT(II8)": ("tab:purple", "-"),
               "VTK": ("tab:blue", "-."), "VTK-strong": ("tab:orange", "-.")}
