@@ -198,7 +198,11 @@ public:
     // y_i = sum_k a_ik w_k for all columns, in registers when NC is fixed.
     auto rowProduct = [&](std::int64_t i, const double* w, double* y)
     {
-      for (int c = 0; c < nc; ++c)
+      // Accumulate in registers (y may alias w as far as the compiler
+      // knows); the dynamic column count accumulates in y itself.
+      double tFixed[NC > 0 ? NC : 1] = {};
+      double* t = NC > 0 ? tFixed : y;
+      for (int c = 0; NC == 0 && c < nc; ++c)
       {
         y[c] = 0.0;
       }
@@ -208,8 +212,12 @@ public:
         const double* wk = w + static_cast<std::int64_t>(inner[k]) * nc;
         for (int c = 0; c < nc; ++c)
         {
-          y[c] += a * wk[c];
+          t[c] += a * wk[c];
         }
+      }
+      for (int c = 0; NC > 0 && c < nc; ++c)
+      {
+        y[c] = t[c];
       }
     };
 
@@ -314,13 +322,26 @@ public:
       ForBlocks(n,
         [&](std::int64_t, std::int64_t i0, std::int64_t i1)
         {
+          // p = g D^-1 r + h p with (g, h) = (1, beta), or (0, 1) to keep
+          // p: no branch, and local copies the compiler need not reload.
+          double a[NC > 0 ? NC : 16], g[NC > 0 ? NC : 16], h[NC > 0 ? NC : 16];
+          const bool local = nc <= 16;
+          for (int c = 0; local && c < nc; ++c)
+          {
+            a[c] = alpha[c];
+            g[c] = active[c] ? 1.0 : 0.0;
+            h[c] = active[c] ? beta[c] : 1.0;
+          }
           for (std::int64_t i = i0; i < i1; ++i)
           {
             for (int c = 0; c < nc; ++c)
             {
               const std::int64_t ic = i * nc + c;
-              x[ic] += alpha[c] * p[ic];
-              p[ic] = active[c] ? dinv[i] * r[ic] + beta[c] * p[ic] : p[ic];
+              const double ac = local ? a[c] : alpha[c];
+              const double gc = local ? g[c] : (active[c] ? 1.0 : 0.0);
+              const double hc = local ? h[c] : (active[c] ? beta[c] : 1.0);
+              x[ic] += ac * p[ic];
+              p[ic] = gc * dinv[i] * r[ic] + hc * p[ic];
             }
           }
         });
@@ -614,7 +635,11 @@ public:
     std::vector<char> active(nc, 1);
     auto rowProduct = [&](std::int64_t i, const double* w, double* y)
     {
-      for (int c = 0; c < nc; ++c)
+      // Accumulate in registers (y may alias w as far as the compiler
+      // knows); the dynamic column count accumulates in y itself.
+      double tFixed[NC > 0 ? NC : 1] = {};
+      double* t = NC > 0 ? tFixed : y;
+      for (int c = 0; NC == 0 && c < nc; ++c)
       {
         y[c] = 0.0;
       }
@@ -624,8 +649,12 @@ public:
         const double* wk = w + static_cast<std::int64_t>(inner[k]) * nc;
         for (int c = 0; c < nc; ++c)
         {
-          y[c] += a * wk[c];
+          t[c] += a * wk[c];
         }
+      }
+      for (int c = 0; NC > 0 && c < nc; ++c)
+      {
+        y[c] = t[c];
       }
     };
     // r = b - A x (r holds b on entry); sums of b.b and r.r.
