@@ -121,6 +121,17 @@ at.Lambda = 0.5
 at.UpdatePipeline()
 fewer = servermanager.Fetch(at, idx=1).GetNumberOfLines()
 check(fewer < n_lines, "a larger lambda re-executes and gives fewer features (%d < %d)" % (fewer, n_lines))
+# The exact solver through the plugin agrees with the default iterative one.
+at.Lambda = 0.01
+at.LinearSolver = "Sparse LDLt (exact, slow)"
+at.UpdatePipeline()
+exact_u = servermanager.Fetch(at, idx=0).GetCellData().GetArray("ATNormals")
+if exact_u is not None and ref_u is not None:
+    diff = max(abs(exact_u.GetComponent(c, a) - ref_u.GetComponent(c, a))
+               for c in range(ref_u.GetNumberOfTuples()) for a in range(3))
+    check(0.0 < diff < 1e-6, "LDLt through the plugin agrees with the default CG (max diff %g)" % diff)
+else:
+    check(False, "LDLt run gives ATNormals")
 
 # A filter whose input is removed reports an error, no crash.
 orphan = DigitalSurface(Input=reader)

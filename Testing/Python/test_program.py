@@ -200,6 +200,7 @@ bad_cases = [
     ("noise above 1", ["--noise", "1.5"], 2),
     ("not a number", ["--alpha", "abc"], 2),
     ("unknown option", ["--frobnicate"], 2),
+    ("unknown solver", ["--solver", "gauss"], 2),
 ]
 for what, args, status in bad_cases:
     p, out = run(*args)
@@ -221,6 +222,22 @@ if a.returncode == 0 and b.returncode == 0 and c.returncode == 0:
         check(fa.read() != fc.read(), "another seed, another output file")
 else:
     check(False, "noise runs: %s %s %s" % (a.stderr, b.stderr, c.stderr))
+
+# The exact solver gives the same features as the default iterative one.
+def feature_lines(out, prefix):
+    r = vtkXMLPolyDataReader()
+    r.SetFileName(os.path.join(out, prefix + "_features.vtp"))
+    r.Update()
+    return r.GetOutput().GetNumberOfLines()
+
+
+d, out_d = run(inputs["v2.vol"], "--noise", "0.2", "--no-png", "--prefix", "s")
+e, out_e = run(inputs["v2.vol"], "--noise", "0.2", "--no-png", "--prefix", "s", "--solver", "ldlt")
+if d.returncode == 0 and e.returncode == 0:
+    nd, ne = feature_lines(out_d, "s"), feature_lines(out_e, "s")
+    check(nd > 0 and nd == ne, "--solver ldlt gives the default's %d feature edges (%d)" % (nd, ne))
+else:
+    check(False, "solver runs: %s %s" % (d.stderr, e.stderr))
 
 # The picture: the built-in shape, panels off; the object covers a sensible
 # share of the image and red feature pixels are present.
