@@ -60,6 +60,120 @@ void ReduceBlocks(const std::vector<double>& partial, std::int64_t nb, int count
   }
 }
 
+// y_i = sum_k a_ik w_k for all nc columns of a column-interleaved w. With NC
+// fixed the sums stay in registers (y may alias w as far as the compiler
+// knows); a dynamic column count accumulates in y itself.
+template<int NC>
+inline void RowProduct(const ATSystemMatrix& m,
+  std::int64_t i,
+  const double* w,
+  double* y,
+  int ncRun)
+{
+  const int nc = NC > 0 ? NC : ncRun; // a constant lets the compiler unroll
+  const int* outer = m.outerIndexPtr();
+  const int* inner = m.innerIndexPtr();
+  const double* val = m.valuePtr();
+  double tFixed[NC > 0 ? NC : 1] = {};
+  double* t = NC > 0 ? tFixed : y;
+  for (int c = 0; NC == 0 && c < nc; ++c)
+  {
+    y[c] = 0.0;
+  }
+  for (int k = outer[i]; k < outer[i + 1]; ++k)
+  {
+    const double a = val[k];
+    const double* wk = w + static_cast<std::int64_t>(inner[k]) * nc;
+    for (int c = 0; c < nc; ++c)
+    {
+      t[c] += a * wk[c];
+    }
+  }
+  for (int c = 0; NC > 0 && c < nc; ++c)
+  {
+    y[c] = t[c];
+  }
+}
+
+// q = A p for all columns and the per-column sums p.q (fixed blocks, summed
+// in order); partial holds at least NumberOfBlocks(n) * nc values.
+template<int NC>
+void ProductAndDot(const ATSystemMatrix& m,
+  const std::vector<double>& p,
+  std::vector<double>& q,
+  int ncRun,
+  std::vector<double>& partial,
+  double* pq)
+{
+  const int nc = NC > 0 ? NC : ncRun;
+  const std::int64_t n = m.cols();
+  ForBlocks(n,
+    [&](std::int64_t blk, std::int64_t i0, std::int64_t i1)
+    {
+      double acc[NC > 0 ? NC : 16] = {};
+      std::vector<double> accDyn(NC > 0 ? 0 : nc, 0.0);
+      double* s = NC > 0 ? acc : accDyn.data();
+      for (std::int64_t i = i0; i < i1; ++i)
+      {
+        double* qi = q.data() + i * nc;
+        RowProduct<NC>(m, i, p.data(), qi, nc);
+        for (int c = 0; c < nc; ++c)
+        {
+          s[c] += p[i * nc + c] * qi[c];
+        }
+      }
+      std::copy(s, s + nc, partial.data() + blk * nc);
+    });
+  ReduceBlocks(partial, NumberOfBlocks(n), nc, pq);
+}
+
+// Column-interleaved copies (row i, column c at i * nc + c): one read of a
+// matrix row then serves every column.
+std::vector<double> Interleave(const Eigen::MatrixXd& a)
+{
+  const std::int64_t n = a.rows(), nc = a.cols();
+  std::vector<double> v(n * nc);
+  for (std::int64_t c = 0; c < nc; ++c)
+  {
+    for (std::int64_t i = 0; i < n; ++i)
+    {
+      v[i * nc + c] = a(i, c);
+    }
+  }
+  return v;
+}
+
+void Deinterleave(const std::vector<double>& v, Eigen::MatrixXd& a)
+{
+  const std::int64_t n = a.rows(), nc = a.cols();
+  for (std::int64_t c = 0; c < nc; ++c)
+  {
+    for (std::int64_t i = 0; i < n; ++i)
+    {
+      a(i, c) = v[i * nc + c];
+    }
+  }
+}
+
+// Calls system.SolveN<NC> with the column count fixed at compile time for
+// the two common cases (1 for v, 3 for normals).
+template<class System>
+bool SolveColumns(System& system,
+  const ATSystemMatrix& m,
+  const Eigen::MatrixXd& b,
+  Eigen::MatrixXd& x)
+{
+  switch (b.cols())
+  {
+    case 1:
+      return system.template SolveN<1>(m, b, x, 1);
+    case 3:
+      return system.template SolveN<3>(m, b, x, 3);
+    default:
+      return system.template SolveN<0>(m, b, x, static_cast<int>(b.cols()));
+  }
+}
+
 using Clock = std::chrono::steady_clock;
 double Seconds(Clock::time_point t0)
 {
@@ -147,15 +261,7 @@ public:
 
   bool Solve(const ATSystemMatrix& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& x) override
   {
-    switch (b.cols())
-    {
-      case 1:
-        return this->SolveN<1>(m, b, x, 1);
-      case 3:
-        return this->SolveN<3>(m, b, x, 3);
-      default:
-        return this->SolveN<0>(m, b, x, static_cast<int>(b.cols()));
-    }
+    return SolveColumns(*this, m, b, x);
   }
 
   // The vectors are stored interleaved (row i, column c at i * nc + c) so
@@ -177,49 +283,15 @@ public:
     {
       xOut = Eigen::MatrixXd::Zero(n, nc);
     }
-    const int* outer = m.outerIndexPtr();
-    const int* inner = m.innerIndexPtr();
-    const double* val = m.valuePtr();
     const double* dinv = this->InvDiag.data();
-    std::vector<double> x(n * nc), r(n * nc), p(n * nc), q(n * nc);
-    for (int c = 0; c < nc; ++c)
-    {
-      for (std::int64_t i = 0; i < n; ++i)
-      {
-        x[i * nc + c] = xOut(i, c);
-        r[i * nc + c] = b(i, c);
-      }
-    }
+    std::vector<double> x = Interleave(xOut), r = Interleave(b), p(n * nc), q(n * nc);
     const std::int64_t nb = NumberOfBlocks(n);
     std::vector<double> partial(nb * 3 * nc);
     std::vector<double> sums(3 * nc);
     std::vector<double> rz(nc), bb(nc), alpha(nc, 0.0), beta(nc, 0.0);
     std::vector<char> active(nc, 1);
-    // y_i = sum_k a_ik w_k for all columns, in registers when NC is fixed.
     auto rowProduct = [&](std::int64_t i, const double* w, double* y)
-    {
-      // Accumulate in registers (y may alias w as far as the compiler
-      // knows); the dynamic column count accumulates in y itself.
-      double tFixed[NC > 0 ? NC : 1] = {};
-      double* t = NC > 0 ? tFixed : y;
-      for (int c = 0; NC == 0 && c < nc; ++c)
-      {
-        y[c] = 0.0;
-      }
-      for (int k = outer[i]; k < outer[i + 1]; ++k)
-      {
-        const double a = val[k];
-        const double* wk = w + static_cast<std::int64_t>(inner[k]) * nc;
-        for (int c = 0; c < nc; ++c)
-        {
-          t[c] += a * wk[c];
-        }
-      }
-      for (int c = 0; NC > 0 && c < nc; ++c)
-      {
-        y[c] = t[c];
-      }
-    };
+    { RowProduct<NC>(m, i, w, y, nc); };
 
     // r = b - A x (r holds b on entry), p = D^-1 r; sums of r.z, b.b, r.r.
     ForBlocks(n,
@@ -258,24 +330,7 @@ public:
     {
       ++it;
       // q = A p and p.q (converged columns are computed but not used).
-      ForBlocks(n,
-        [&](std::int64_t blk, std::int64_t i0, std::int64_t i1)
-        {
-          double acc[NC > 0 ? NC : 16] = {};
-          std::vector<double> accDyn(NC > 0 ? 0 : nc, 0.0);
-          double* s = NC > 0 ? acc : accDyn.data();
-          for (std::int64_t i = i0; i < i1; ++i)
-          {
-            double* qi = q.data() + i * nc;
-            rowProduct(i, p.data(), qi);
-            for (int c = 0; c < nc; ++c)
-            {
-              s[c] += p[i * nc + c] * qi[c];
-            }
-          }
-          std::copy(s, s + nc, partial.data() + blk * nc);
-        });
-      ReduceBlocks(partial, nb, nc, sums.data());
+      ProductAndDot<NC>(m, p, q, nc, partial, sums.data());
       for (int c = 0; c < nc; ++c)
       {
         if (active[c] && !(sums[c] > 0))
@@ -347,13 +402,7 @@ public:
         });
     }
     this->Iterations += it;
-    for (int c = 0; c < nc; ++c)
-    {
-      for (std::int64_t i = 0; i < n; ++i)
-      {
-        xOut(i, c) = x[i * nc + c];
-      }
-    }
+    Deinterleave(x, xOut);
     return nActive == 0 && xOut.allFinite();
   }
 
@@ -401,37 +450,38 @@ public:
     this->LCol.clear();
     this->LPos.clear();
     this->UCol.clear();
-    for (std::int64_t blk = 0; blk < nBlocks; ++blk)
-      for (std::int64_t i = this->Blocks[blk]; i < this->Blocks[blk + 1]; ++i)
+    for (std::int64_t i = 0, blk = 0; i < n; ++i)
+    {
+      blk += i == this->Blocks[blk + 1];
+      const std::int64_t lo = this->Blocks[blk], hi = this->Blocks[blk + 1];
+      for (int k = outer[i]; k < outer[i + 1]; ++k)
       {
-        for (int k = outer[i]; k < outer[i + 1]; ++k)
+        const int j = inner[k];
+        if (j < lo || j >= hi)
         {
-          const int j = inner[k];
-          if (j < this->Blocks[blk] || j >= this->Blocks[blk + 1])
-          {
-            continue; // coupling between blocks: not in the factor
-          }
-          if (j < i)
-          {
-            this->LCol.push_back(j);
-            this->LPos.push_back(k);
-          }
-          else if (j == i)
-          {
-            this->DPos[i] = k;
-          }
-          else
-          {
-            this->UCol.push_back(j);
-          }
+          continue; // coupling between blocks: not in the factor
         }
-        this->LPtr[i + 1] = static_cast<std::int64_t>(this->LCol.size());
-        this->UPtr[i + 1] = static_cast<std::int64_t>(this->UCol.size());
-        if (this->DPos[i] < 0)
+        if (j < i)
         {
-          return false;
+          this->LCol.push_back(j);
+          this->LPos.push_back(k);
+        }
+        else if (j == i)
+        {
+          this->DPos[i] = k;
+        }
+        else
+        {
+          this->UCol.push_back(j);
         }
       }
+      this->LPtr[i + 1] = static_cast<std::int64_t>(this->LCol.size());
+      this->UPtr[i + 1] = static_cast<std::int64_t>(this->UCol.size());
+      if (this->DPos[i] < 0)
+      {
+        return false;
+      }
+    }
     // Upper entry (i, j) is L's (j, i): find it in row j (sorted columns).
     this->UFromL.resize(this->UCol.size());
     for (std::int64_t i = 0; i < n; ++i)
@@ -524,7 +574,6 @@ public:
         }
         this->InvD[i] = 1.0 / a;
       }
-      ++this->Fallbacks;
     }
     this->UVal.resize(this->UCol.size());
     for (std::size_t u = 0; u < this->UCol.size(); ++u)
@@ -536,15 +585,7 @@ public:
 
   bool Solve(const ATSystemMatrix& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& x) override
   {
-    switch (b.cols())
-    {
-      case 1:
-        return this->SolveN<1>(m, b, x, 1);
-      case 3:
-        return this->SolveN<3>(m, b, x, 3);
-      default:
-        return this->SolveN<0>(m, b, x, static_cast<int>(b.cols()));
-    }
+    return SolveColumns(*this, m, b, x);
   }
 
   // z = (L D L^T)^-1 r, all columns at once, block by block in parallel;
@@ -616,47 +657,14 @@ public:
     {
       xOut = Eigen::MatrixXd::Zero(n, nc);
     }
-    const int* outer = m.outerIndexPtr();
-    const int* inner = m.innerIndexPtr();
-    const double* val = m.valuePtr();
-    std::vector<double> x(n * nc), r(n * nc), p(n * nc), q(n * nc), z(n * nc);
-    for (int c = 0; c < nc; ++c)
-    {
-      for (std::int64_t i = 0; i < n; ++i)
-      {
-        x[i * nc + c] = xOut(i, c);
-        r[i * nc + c] = b(i, c);
-      }
-    }
+    std::vector<double> x = Interleave(xOut), r = Interleave(b), p(n * nc), q(n * nc), z(n * nc);
     const std::int64_t nb = NumberOfBlocks(n);
     std::vector<double> partial(nb * 2 * nc);
     std::vector<double> sums(2 * nc);
     std::vector<double> rz(nc), rzNew(nc), bb(nc), alpha(nc, 0.0), beta(nc, 0.0);
     std::vector<char> active(nc, 1);
     auto rowProduct = [&](std::int64_t i, const double* w, double* y)
-    {
-      // Accumulate in registers (y may alias w as far as the compiler
-      // knows); the dynamic column count accumulates in y itself.
-      double tFixed[NC > 0 ? NC : 1] = {};
-      double* t = NC > 0 ? tFixed : y;
-      for (int c = 0; NC == 0 && c < nc; ++c)
-      {
-        y[c] = 0.0;
-      }
-      for (int k = outer[i]; k < outer[i + 1]; ++k)
-      {
-        const double a = val[k];
-        const double* wk = w + static_cast<std::int64_t>(inner[k]) * nc;
-        for (int c = 0; c < nc; ++c)
-        {
-          t[c] += a * wk[c];
-        }
-      }
-      for (int c = 0; NC > 0 && c < nc; ++c)
-      {
-        y[c] = t[c];
-      }
-    };
+    { RowProduct<NC>(m, i, w, y, nc); };
     // r = b - A x (r holds b on entry); sums of b.b and r.r.
     ForBlocks(n,
       [&](std::int64_t blk, std::int64_t i0, std::int64_t i1)
@@ -696,24 +704,7 @@ public:
     {
       ++it;
       // q = A p and p.q.
-      ForBlocks(n,
-        [&](std::int64_t blk, std::int64_t i0, std::int64_t i1)
-        {
-          double acc[NC > 0 ? NC : 16] = {};
-          std::vector<double> accDyn(NC > 0 ? 0 : nc, 0.0);
-          double* s = NC > 0 ? acc : accDyn.data();
-          for (std::int64_t i = i0; i < i1; ++i)
-          {
-            double* qi = q.data() + i * nc;
-            rowProduct(i, p.data(), qi);
-            for (int c = 0; c < nc; ++c)
-            {
-              s[c] += p[i * nc + c] * qi[c];
-            }
-          }
-          std::copy(s, s + nc, partial.data() + blk * nc);
-        });
-      ReduceBlocks(partial, nb, nc, sums.data());
+      ProductAndDot<NC>(m, p, q, nc, partial, sums.data());
       for (int c = 0; c < nc; ++c)
       {
         if (active[c] && !(sums[c] > 0))
@@ -774,17 +765,9 @@ public:
         });
     }
     this->Iterations += it;
-    for (int c = 0; c < nc; ++c)
-    {
-      for (std::int64_t i = 0; i < n; ++i)
-      {
-        xOut(i, c) = x[i * nc + c];
-      }
-    }
+    Deinterleave(x, xOut);
     return nActive == 0 && xOut.allFinite();
   }
-
-  int Fallbacks = 0;
 
 private:
   double Tolerance;

@@ -458,29 +458,12 @@ TEST(ATFilter, InconsistentWindingWarnsAndStillComputes)
   // A 3 x 3 grid of quads (4 x 4 points) with the centre quad reversed, and
   // one isolated point and a non-manifold fin on the side: a warning, and a
   // result for every polygon.
-  vtkNew<vtkPoints> pts;
-  for (int j = 0; j < 4; ++j)
-    for (int i = 0; i < 4; ++i)
-      pts->InsertNextPoint(i, j, 0);
-  const vtkIdType isolated = pts->InsertNextPoint(10, 10, 10);
-  (void)isolated;
+  auto mesh = dgtest::QuadGrid3x3(true);
+  vtkPoints* pts = mesh->GetPoints();
+  pts->InsertNextPoint(10, 10, 10); // isolated
   const vtkIdType fin0 = pts->InsertNextPoint(0, 0, 1), fin1 = pts->InsertNextPoint(1, 0, 1);
-  vtkNew<vtkCellArray> polys;
-  for (int j = 0; j < 3; ++j)
-    for (int i = 0; i < 3; ++i)
-    {
-      vtkIdType q[4] = { j * 4 + i, j * 4 + i + 1, (j + 1) * 4 + i + 1, (j + 1) * 4 + i };
-      if (i == 1 && j == 1)
-      {
-        std::swap(q[1], q[3]);
-      }
-      polys->InsertNextCell(4, q);
-    }
   vtkIdType fin[4] = { 0, fin0, fin1, 1 };
-  polys->InsertNextCell(4, fin);
-  vtkNew<vtkPolyData> mesh;
-  mesh->SetPoints(pts);
-  mesh->SetPolys(polys);
+  mesh->GetPolys()->InsertNextCell(4, fin);
   vtkNew<vtkDoubleArray> g;
   g->SetName("g");
   g->SetNumberOfComponents(3);

@@ -198,24 +198,7 @@ vtkSmartPointer<vtkPolyData> NonManifoldWithIsolatedPoint()
 // A 3 x 3 grid of quads with the centre one reversed.
 vtkSmartPointer<vtkPolyData> InconsistentWinding()
 {
-  vtkNew<vtkPoints> pts;
-  for (int j = 0; j < 4; ++j)
-    for (int i = 0; i < 4; ++i)
-      pts->InsertNextPoint(i, j, 0.1 * ((i + j) % 2));
-  vtkNew<vtkCellArray> polys;
-  for (int j = 0; j < 3; ++j)
-    for (int i = 0; i < 3; ++i)
-    {
-      vtkIdType q[4] = { j * 4 + i, j * 4 + i + 1, (j + 1) * 4 + i + 1, (j + 1) * 4 + i };
-      if (i == 1 && j == 1)
-      {
-        std::swap(q[1], q[3]);
-      }
-      polys->InsertNextCell(4, q);
-    }
-  auto mesh = vtkSmartPointer<vtkPolyData>::New();
-  mesh->SetPoints(pts);
-  mesh->SetPolys(polys);
+  auto mesh = dgtest::QuadGrid3x3(true, 0.1);
   vtkNew<vtkDoubleArray> g;
   g->SetNumberOfComponents(3);
   for (int c = 0; c < 9; ++c)

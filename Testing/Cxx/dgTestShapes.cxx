@@ -1,5 +1,6 @@
 #include "dgTestShapes.h"
 
+#include <vtkCellArray.h>
 #include <vtkDataArray.h>
 #include <vtkPointData.h>
 
@@ -76,6 +77,35 @@ void ErrorObserver::Clear()
 {
   this->Errors = this->Warnings = 0;
   this->Messages.clear();
+}
+
+vtkSmartPointer<vtkPolyData> QuadGrid3x3(bool reverseCentre, double zWiggle)
+{
+  vtkNew<vtkPoints> pts;
+  for (int j = 0; j < 4; ++j)
+  {
+    for (int i = 0; i < 4; ++i)
+    {
+      pts->InsertNextPoint(i, j, zWiggle * ((i + j) % 2));
+    }
+  }
+  vtkNew<vtkCellArray> polys;
+  for (int j = 0; j < 3; ++j)
+  {
+    for (int i = 0; i < 3; ++i)
+    {
+      vtkIdType q[4] = { j * 4 + i, j * 4 + i + 1, (j + 1) * 4 + i + 1, (j + 1) * 4 + i };
+      if (reverseCentre && i == 1 && j == 1)
+      {
+        std::swap(q[1], q[3]);
+      }
+      polys->InsertNextCell(4, q);
+    }
+  }
+  auto mesh = vtkSmartPointer<vtkPolyData>::New();
+  mesh->SetPoints(pts);
+  mesh->SetPolys(polys);
+  return mesh;
 }
 
 } // namespace dgtest

@@ -7,6 +7,7 @@
 #include <vtkCommand.h>
 #include <vtkExecutive.h>
 #include <vtkImageData.h>
+#include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
 
 #include <functional>
@@ -32,6 +33,11 @@ vtkSmartPointer<vtkImageData> Ball(int n, double r);
 
 /// Random voxel set: each voxel inside with probability p.
 vtkSmartPointer<vtkImageData> RandomVoxels(int nx, int ny, int nz, double p, unsigned seed);
+
+/// A 3 x 3 grid of unit quads in the plane z = 0 (points 0..15, row-major,
+/// point (i, j) lifted by zWiggle when i + j is odd), wound counter-clockwise
+/// except the centre quad when reverseCentre; no attribute arrays.
+vtkSmartPointer<vtkPolyData> QuadGrid3x3(bool reverseCentre, double zWiggle = 0.0);
 
 /// Records errors and warnings emitted by a VTK object.
 class ErrorObserver : public vtkCommand
