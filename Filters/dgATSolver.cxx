@@ -129,10 +129,10 @@ void ProductAndDot(const ATSystemMatrix& m,
 
 // Column-interleaved copies (row i, column c at i * nc + c): one read of a
 // matrix row then serves every column.
-std::vector<double> Interleave(const Eigen::MatrixXd& a)
+void Interleave(const Eigen::MatrixXd& a, std::vector<double>& v)
 {
   const std::int64_t n = a.rows(), nc = a.cols();
-  std::vector<double> v(n * nc);
+  v.resize(n * nc);
   for (std::int64_t c = 0; c < nc; ++c)
   {
     for (std::int64_t i = 0; i < n; ++i)
@@ -140,7 +140,11 @@ std::vector<double> Interleave(const Eigen::MatrixXd& a)
       v[i * nc + c] = a(i, c);
     }
   }
-  return v;
+}
+
+bool AllFinite(const std::vector<double>& v)
+{
+  return std::all_of(v.begin(), v.end(), [](double a) { return std::isfinite(a); });
 }
 
 void Deinterleave(const std::vector<double>& v, Eigen::MatrixXd& a)
@@ -284,7 +288,9 @@ public:
       xOut = Eigen::MatrixXd::Zero(n, nc);
     }
     const double* dinv = this->InvDiag.data();
-    std::vector<double> x = Interleave(xOut), r = Interleave(b), p(n * nc), q(n * nc);
+    std::vector<double> x, r, p(n * nc), q(n * nc);
+    Interleave(xOut, x);
+    Interleave(b, r);
     const std::int64_t nb = NumberOfBlocks(n);
     std::vector<double> partial(nb * 3 * nc);
     std::vector<double> sums(3 * nc);
@@ -402,8 +408,12 @@ public:
         });
     }
     this->Iterations += it;
+    if (nActive != 0 || !AllFinite(x))
+    {
+      return false; // xOut keeps the previous values
+    }
     Deinterleave(x, xOut);
-    return nActive == 0 && xOut.allFinite();
+    return true;
   }
 
 private:
@@ -475,8 +485,8 @@ public:
           this->UCol.push_back(j);
         }
       }
-      this->LPtr[i + 1] = static_cast<std::int64_t>(this->LCol.size());
-      this->UPtr[i + 1] = static_cast<std::int64_t>(this->UCol.size());
+      this->LPtr[i + 1] = static_cast<int>(this->LCol.size());
+      this->UPtr[i + 1] = static_cast<int>(this->UCol.size());
       if (this->DPos[i] < 0)
       {
         return false;
@@ -588,14 +598,100 @@ public:
     return SolveColumns(*this, m, b, x);
   }
 
-  // z = (L D L^T)^-1 r, all columns at once, block by block in parallel;
-  // returns r.z per column in rz (summed block by block, in order).
+  // The CG below is arranged so that each iteration makes two passes over
+  // memory instead of four (the solve is bound by memory bandwidth):
+  //  1. per IC block: x += alpha p, r -= alpha q, then z = (L D L^T)^-1 r for
+  //     that block (forward and backward sweeps while the block's rows are
+  //     still in cache), with the sums r.r and r.z;
+  //  2. per row: w = A z, p = z + beta p, q = w + beta q (q = A p by
+  //     linearity, so A p is never formed from p), with the sums p.q.
+  // r.z is summed in the forward sweep: with y = L^-1 r, r.z = y.D^-1 y.
+  // Same iterates as the textbook algorithm up to rounding.
   template<int NC>
-  void Precondition(const std::vector<double>& r, std::vector<double>& z, int ncRun, double* rz)
+  void UpdateAndPrecondition(bool update,
+    const double* alpha,
+    std::vector<double>& x,
+    const std::vector<double>& p,
+    std::vector<double>& r,
+    const std::vector<double>& q,
+    std::vector<double>& z,
+    int ncRun,
+    double* rr,
+    double* rz)
   {
     const int nc = NC > 0 ? NC : ncRun;
     const std::int64_t nBlocks = static_cast<std::int64_t>(this->Blocks.size()) - 1;
-    this->Partial.assign(nBlocks * nc, 0.0);
+    this->Partial.assign(nBlocks * 2 * nc, 0.0);
+    double aFixed[NC > 0 ? NC : 1] = {};
+    std::vector<double> aDyn(NC > 0 ? 0 : nc);
+    double* a = NC > 0 ? aFixed : aDyn.data();
+    for (int c = 0; c < nc; ++c)
+    {
+      a[c] = update ? alpha[c] : 0.0;
+    }
+    // Row i of the forward sweep: x, r update and y_i = r_i - sum_j l_ij y_j.
+    // The row sums are kept in registers and stored once: z_i and z_j are
+    // in the same array, so accumulating in z itself would chain every
+    // product through a store and a reload.
+    auto forward = [&](std::int64_t i, double* s)
+    {
+      double tFixed[NC > 0 ? NC : 1];
+      std::vector<double> tDyn(NC > 0 ? 0 : nc);
+      double* t = NC > 0 ? tFixed : tDyn.data();
+      for (int c = 0; c < nc; ++c)
+      {
+        const std::int64_t ic = i * nc + c;
+        double ri = r[ic];
+        if (update)
+        {
+          x[ic] += a[c] * p[ic];
+          ri -= a[c] * q[ic];
+          r[ic] = ri;
+        }
+        s[c] += ri * ri;
+        t[c] = ri;
+      }
+      for (std::int64_t kk = this->LPtr[i]; kk < this->LPtr[i + 1]; ++kk)
+      {
+        const double l = this->LVal[kk];
+        const double* zj = z.data() + static_cast<std::int64_t>(this->LCol[kk]) * nc;
+        for (int c = 0; c < nc; ++c)
+        {
+          t[c] -= l * zj[c];
+        }
+      }
+      double* zi = z.data() + i * nc;
+      for (int c = 0; c < nc; ++c)
+      {
+        zi[c] = t[c];
+        s[nc + c] += t[c] * t[c] * this->InvD[i];
+      }
+    };
+    auto backward = [&](std::int64_t i)
+    {
+      double tFixed[NC > 0 ? NC : 1];
+      std::vector<double> tDyn(NC > 0 ? 0 : nc);
+      double* t = NC > 0 ? tFixed : tDyn.data();
+      double* zi = z.data() + i * nc;
+      const double di = this->InvD[i];
+      for (int c = 0; c < nc; ++c)
+      {
+        t[c] = zi[c] * di;
+      }
+      for (std::int64_t u = this->UPtr[i]; u < this->UPtr[i + 1]; ++u)
+      {
+        const double l = this->UVal[u];
+        const double* zj = z.data() + static_cast<std::int64_t>(this->UCol[u]) * nc;
+        for (int c = 0; c < nc; ++c)
+        {
+          t[c] -= l * zj[c];
+        }
+      }
+      for (int c = 0; c < nc; ++c)
+      {
+        zi[c] = t[c];
+      }
+    };
     vtkSMPTools::For(0,
       nBlocks,
       1,
@@ -603,49 +699,84 @@ public:
       {
         for (std::int64_t blk = b0; blk < b1; ++blk)
         {
+          // Sums in a local array (z could alias Partial as far as the
+          // compiler knows), copied out per block.
+          double sFixed[2 * (NC > 0 ? NC : 1)] = {};
+          std::vector<double> sDyn(NC > 0 ? 0 : 2 * nc, 0.0);
+          double* s = NC > 0 ? sFixed : sDyn.data();
           const std::int64_t i0 = this->Blocks[blk], i1 = this->Blocks[blk + 1];
           for (std::int64_t i = i0; i < i1; ++i)
           {
-            double* zi = z.data() + i * nc;
-            for (int c = 0; c < nc; ++c)
-            {
-              zi[c] = r[i * nc + c];
-            }
-            for (std::int64_t kk = this->LPtr[i]; kk < this->LPtr[i + 1]; ++kk)
-            {
-              const double l = this->LVal[kk];
-              const double* zj = z.data() + static_cast<std::int64_t>(this->LCol[kk]) * nc;
-              for (int c = 0; c < nc; ++c)
-              {
-                zi[c] -= l * zj[c];
-              }
-            }
+            forward(i, s);
           }
-          double* s = this->Partial.data() + blk * nc;
           for (std::int64_t i = i1 - 1; i >= i0; --i)
           {
-            double* zi = z.data() + i * nc;
-            for (int c = 0; c < nc; ++c)
-            {
-              zi[c] *= this->InvD[i];
-            }
-            for (std::int64_t u = this->UPtr[i]; u < this->UPtr[i + 1]; ++u)
-            {
-              const double l = this->UVal[u];
-              const double* zj = z.data() + static_cast<std::int64_t>(this->UCol[u]) * nc;
-              for (int c = 0; c < nc; ++c)
-              {
-                zi[c] -= l * zj[c];
-              }
-            }
-            for (int c = 0; c < nc; ++c)
-            {
-              s[c] += r[i * nc + c] * zi[c];
-            }
+            backward(i);
           }
+          std::copy(s, s + 2 * nc, this->Partial.begin() + blk * 2 * nc);
         }
       });
-    ReduceBlocks(this->Partial, nBlocks, nc, rz);
+    for (int c = 0; c < nc; ++c)
+    {
+      rr[c] = rz[c] = 0.0;
+    }
+    for (std::int64_t blk = 0; blk < nBlocks; ++blk)
+    {
+      for (int c = 0; c < nc; ++c)
+      {
+        rr[c] += this->Partial[blk * 2 * nc + c];
+        rz[c] += this->Partial[blk * 2 * nc + nc + c];
+      }
+    }
+  }
+
+  // p = g z + h p and q = g A z + h q per column, with the sums p.q; (g, h)
+  // is (1, beta) for an active column, (0, 1) to keep a converged one, and
+  // (1, 0) for the first direction.
+  template<int NC>
+  void NextDirection(const ATSystemMatrix& m,
+    const std::vector<double>& z,
+    std::vector<double>& p,
+    std::vector<double>& q,
+    const double* gIn,
+    const double* hIn,
+    int ncRun,
+    std::vector<double>& partial,
+    double* pq)
+  {
+    const int nc = NC > 0 ? NC : ncRun;
+    const std::int64_t n = m.cols();
+    ForBlocks(n,
+      [&](std::int64_t blk, std::int64_t i0, std::int64_t i1)
+      {
+        double sFixed[NC > 0 ? NC : 1] = {}, gFixed[NC > 0 ? NC : 1], hFixed[NC > 0 ? NC : 1],
+                                    wFixed[NC > 0 ? NC : 1];
+        std::vector<double> dyn(NC > 0 ? 0 : 4 * nc, 0.0);
+        double* s = NC > 0 ? sFixed : dyn.data();
+        double* g = NC > 0 ? gFixed : dyn.data() + nc;
+        double* h = NC > 0 ? hFixed : dyn.data() + 2 * nc;
+        double* w = NC > 0 ? wFixed : dyn.data() + 3 * nc;
+        for (int c = 0; c < nc; ++c)
+        {
+          g[c] = gIn[c];
+          h[c] = hIn[c];
+        }
+        for (std::int64_t i = i0; i < i1; ++i)
+        {
+          RowProduct<NC>(m, i, z.data(), w, nc);
+          for (int c = 0; c < nc; ++c)
+          {
+            const std::int64_t ic = i * nc + c;
+            const double pi = g[c] * z[ic] + h[c] * p[ic];
+            const double qi = g[c] * w[c] + h[c] * q[ic];
+            p[ic] = pi;
+            q[ic] = qi;
+            s[c] += pi * qi;
+          }
+        }
+        std::copy(s, s + nc, partial.data() + blk * nc);
+      });
+    ReduceBlocks(partial, NumberOfBlocks(n), nc, pq);
   }
 
   template<int NC>
@@ -657,14 +788,19 @@ public:
     {
       xOut = Eigen::MatrixXd::Zero(n, nc);
     }
-    std::vector<double> x = Interleave(xOut), r = Interleave(b), p(n * nc), q(n * nc), z(n * nc);
+    // Work vectors kept from one solve to the next: fresh ones would cost
+    // page faults and zeroing at every step.
+    std::vector<double>&x = this->X, &r = this->R, &p = this->P, &q = this->Q, &z = this->Z;
+    Interleave(xOut, x);
+    Interleave(b, r);
+    p.resize(n * nc);
+    q.resize(n * nc);
+    z.resize(n * nc);
     const std::int64_t nb = NumberOfBlocks(n);
     std::vector<double> partial(nb * 2 * nc);
     std::vector<double> sums(2 * nc);
-    std::vector<double> rz(nc), rzNew(nc), bb(nc), alpha(nc, 0.0), beta(nc, 0.0);
+    std::vector<double> rr(nc), rz(nc), rzNew(nc), pq(nc), bb(nc), alpha(nc, 0.0), g(nc), h(nc);
     std::vector<char> active(nc, 1);
-    auto rowProduct = [&](std::int64_t i, const double* w, double* y)
-    { RowProduct<NC>(m, i, w, y, nc); };
     // r = b - A x (r holds b on entry); sums of b.b and r.r.
     ForBlocks(n,
       [&](std::int64_t blk, std::int64_t i0, std::int64_t i1)
@@ -674,7 +810,7 @@ public:
         double* s = NC > 0 ? acc : accDyn.data();
         for (std::int64_t i = i0; i < i1; ++i)
         {
-          rowProduct(i, x.data(), y.data());
+          RowProduct<NC>(m, i, x.data(), y.data(), nc);
           for (int c = 0; c < nc; ++c)
           {
             const std::int64_t ic = i * nc + c;
@@ -687,94 +823,68 @@ public:
         std::copy(s, s + 2 * nc, partial.data() + blk * 2 * nc);
       });
     ReduceBlocks(partial, nb, 2 * nc, sums.data());
+    const double tol2 = this->Tolerance * this->Tolerance;
     int nActive = 0;
     for (int c = 0; c < nc; ++c)
     {
       bb[c] = sums[2 * c];
-      active[c] = sums[2 * c + 1] > this->Tolerance * this->Tolerance * bb[c];
+      active[c] = sums[2 * c + 1] > tol2 * bb[c];
       nActive += active[c];
     }
+    int it = 0;
     if (nActive > 0)
     {
-      this->Precondition<NC>(r, z, nc, rz.data());
-      p = z;
+      this->UpdateAndPrecondition<NC>(false, alpha.data(), x, p, r, q, z, nc, rr.data(), rz.data());
+      std::fill(g.begin(), g.end(), 1.0);
+      std::fill(h.begin(), h.end(), 0.0);
+      this->NextDirection<NC>(m, z, p, q, g.data(), h.data(), nc, partial, pq.data());
     }
-    int it = 0;
     while (nActive > 0 && it < this->MaxIterations)
     {
       ++it;
-      // q = A p and p.q.
-      ProductAndDot<NC>(m, p, q, nc, partial, sums.data());
       for (int c = 0; c < nc; ++c)
       {
-        if (active[c] && !(sums[c] > 0))
+        if (active[c] && !(pq[c] > 0))
         {
           return false; // not positive definite (or NaN)
         }
-        alpha[c] = active[c] ? rz[c] / sums[c] : 0.0;
+        alpha[c] = active[c] ? rz[c] / pq[c] : 0.0;
       }
-      // x += alpha p, r -= alpha q; sums of r.r.
-      ForBlocks(n,
-        [&](std::int64_t blk, std::int64_t i0, std::int64_t i1)
-        {
-          double acc[NC > 0 ? NC : 16] = {};
-          std::vector<double> accDyn(NC > 0 ? 0 : nc, 0.0);
-          double* s = NC > 0 ? acc : accDyn.data();
-          for (std::int64_t i = i0; i < i1; ++i)
-          {
-            for (int c = 0; c < nc; ++c)
-            {
-              const std::int64_t ic = i * nc + c;
-              x[ic] += alpha[c] * p[ic];
-              const double ri = r[ic] - alpha[c] * q[ic];
-              r[ic] = ri;
-              s[c] += ri * ri;
-            }
-          }
-          std::copy(s, s + nc, partial.data() + blk * nc);
-        });
-      ReduceBlocks(partial, nb, nc, sums.data());
+      this->UpdateAndPrecondition<NC>(
+        true, alpha.data(), x, p, r, q, z, nc, rr.data(), rzNew.data());
       nActive = 0;
       for (int c = 0; c < nc; ++c)
       {
-        active[c] = active[c] && sums[c] > this->Tolerance * this->Tolerance * bb[c];
+        active[c] = active[c] && rr[c] > tol2 * bb[c];
         nActive += active[c];
+        g[c] = active[c] ? 1.0 : 0.0;
+        h[c] = active[c] ? rzNew[c] / rz[c] : 1.0;
+        rz[c] = active[c] ? rzNew[c] : rz[c];
       }
       if (nActive == 0)
       {
         break;
       }
-      this->Precondition<NC>(r, z, nc, rzNew.data());
-      for (int c = 0; c < nc; ++c)
-      {
-        beta[c] = active[c] ? rzNew[c] / rz[c] : 0.0;
-        rz[c] = rzNew[c];
-      }
-      // p = z + beta p.
-      ForBlocks(n,
-        [&](std::int64_t, std::int64_t i0, std::int64_t i1)
-        {
-          for (std::int64_t i = i0; i < i1; ++i)
-          {
-            for (int c = 0; c < nc; ++c)
-            {
-              const std::int64_t ic = i * nc + c;
-              p[ic] = active[c] ? z[ic] + beta[c] * p[ic] : p[ic];
-            }
-          }
-        });
+      this->NextDirection<NC>(m, z, p, q, g.data(), h.data(), nc, partial, pq.data());
     }
     this->Iterations += it;
+    if (nActive != 0 || !AllFinite(x))
+    {
+      return false; // xOut keeps the previous values
+    }
     Deinterleave(x, xOut);
-    return nActive == 0 && xOut.allFinite();
+    return true;
   }
 
 private:
   double Tolerance;
   int MaxIterations;
-  std::vector<std::int64_t> Blocks, LPtr, UPtr, UFromL;
+  std::vector<std::int64_t> Blocks, UFromL;
+  // int like the matrix's own indices (the factor has fewer entries).
+  std::vector<int> LPtr, UPtr;
   std::vector<int> LCol, LPos, UCol, DPos;
-  std::vector<double> LVal, UVal, InvD, Partial;
+  std::vector<float> LVal, UVal, InvD;
+  std::vector<double> Partial, X, R, P, Q, Z;
 };
 
 std::unique_ptr<ATLinearSystem> MakeSystem(const ATParameters& p)
@@ -884,6 +994,7 @@ void ATSolver::Initialize(const Eigen::MatrixXd& field)
 {
   this->g = field;
   this->u = field;
+  this->URhs = this->Params.Alpha * field;
   this->v = Eigen::VectorXd::Ones(this->Complex.NumberOfVertices());
 }
 
@@ -1004,8 +1115,8 @@ bool ATSolver::SolveSystem(ATLinearSystem& system,
   this->Stats.Factorization += Seconds(t0);
   t0 = Clock::now();
   const std::int64_t it0 = system.Iterations;
-  Eigen::MatrixXd y = x;
-  const bool solved = factored && system.Solve(m, b, y);
+  // Solve leaves x as it was when it fails.
+  const bool solved = factored && system.Solve(m, b, x);
   this->Stats.Solve += Seconds(t0);
   this->Stats.CGIterations += system.Iterations - it0;
   if (!solved)
@@ -1018,7 +1129,6 @@ bool ATSolver::SolveSystem(ATLinearSystem& system,
     ++this->Stats.FailedSolves;
     return false;
   }
-  x = std::move(y);
   return true;
 }
 
@@ -1031,9 +1141,8 @@ bool ATSolver::StepU()
   auto t0 = Clock::now();
   this->AssembleU();
   this->Stats.Assembly += Seconds(t0);
-  const Eigen::MatrixXd rhs = this->Params.Alpha * this->g;
   const std::int64_t it0 = this->Stats.CGIterations;
-  const bool ok = this->SolveSystem(*this->USystem, this->UM, rhs, this->u, "u-step");
+  const bool ok = this->SolveSystem(*this->USystem, this->UM, this->URhs, this->u, "u-step");
   this->Stats.CGIterationsU += this->Stats.CGIterations - it0;
   return ok;
 }
@@ -1047,13 +1156,16 @@ bool ATSolver::StepV(double epsilon)
   auto t0 = Clock::now();
   this->AssembleV(epsilon);
   this->Stats.Assembly += Seconds(t0);
-  const Eigen::MatrixXd rhs =
-    Eigen::MatrixXd::Constant(this->v.size(), 1, this->Params.Lambda / (4 * epsilon));
-  Eigen::MatrixXd x = this->v;
-  const bool ok = this->SolveSystem(*this->VSystem, this->VM, rhs, x, "v-step");
+  const double rhs = this->Params.Lambda / (4 * epsilon);
+  if (this->VRhs.rows() != this->v.size() || this->VRhs.size() == 0 || this->VRhs(0, 0) != rhs)
+  {
+    this->VRhs.setConstant(this->v.size(), 1, rhs);
+  }
+  this->VX = this->v;
+  const bool ok = this->SolveSystem(*this->VSystem, this->VM, this->VRhs, this->VX, "v-step");
   if (ok)
   {
-    this->v = x.col(0);
+    this->v = this->VX.col(0);
   }
   return ok;
 }

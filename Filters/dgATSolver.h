@@ -63,7 +63,7 @@ const char* ATLinearSolverName(ATLinearSolver s);
 /// Parameters in grid units (identity metric: a voxel side is 1).
 struct ATParameters
 {
-  double Alpha = 0.1;  // data fidelity weight
+  double Alpha = 0.1;   // data fidelity weight
   double Lambda = 0.01; // length weight of the discontinuity set
   double EpsilonStart = 2.0;
   double EpsilonEnd = 0.25;
@@ -87,7 +87,7 @@ struct ATStatistics
   double Factorization = 0; // numeric factorisation or preconditioner
   double Solve = 0;         // triangular solves or CG iterations
   int Levels = 0;
-  int Iterations = 0;       // u-step + v-step pairs, all levels
+  int Iterations = 0;             // u-step + v-step pairs, all levels
   std::int64_t CGIterations = 0;  // both systems (one u sweep serves all columns)
   std::int64_t CGIterationsU = 0; // u-system only
   int FailedSolves = 0;
@@ -137,13 +137,19 @@ public:
   const std::string& Error() const { return this->ErrorText; }
 
 private:
-  bool SolveSystem(ATLinearSystem& system, const ATSystemMatrix& m, const Eigen::MatrixXd& b,
-    Eigen::MatrixXd& x, const char* name);
+  bool SolveSystem(ATLinearSystem& system,
+    const ATSystemMatrix& m,
+    const Eigen::MatrixXd& b,
+    Eigen::MatrixXd& x,
+    const char* name);
   const ATComplex& Complex;
   ATParameters Params;
   ATStatistics Stats;
   Eigen::MatrixXd g, u;
   Eigen::VectorXd v;
+  // Right-hand sides (alpha g; lambda / (4 eps) for the current eps) and the
+  // v-step's unknown as a matrix, kept between steps.
+  Eigen::MatrixXd URhs, VRhs, VX;
   ATSystemMatrix UM, VM;
   std::unique_ptr<ATLinearSystem> USystem, VSystem;
   std::vector<std::string> WarningList;
