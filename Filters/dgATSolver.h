@@ -150,6 +150,7 @@ private:
   // Right-hand sides (alpha g; lambda / (4 eps) for the current eps) and the
   // v-step's unknown as a matrix, kept between steps.
   Eigen::MatrixXd URhs, VRhs, VX;
+  std::vector<double> EdgeWork; // per-edge weights or jumps of the assembly
   ATSystemMatrix UM, VM;
   std::unique_ptr<ATLinearSystem> USystem, VSystem;
   std::vector<std::string> WarningList;
