@@ -432,6 +432,10 @@ private:
 // diagonals (H-matrices), for which IC(0) exists; should rounding still give
 // a pivot <= 0, that solve falls back to the diagonal (Jacobi). The factor
 // is refreshed at every step (numeric only: pattern and index maps once).
+// The factor is stored in single precision: it only preconditions (the
+// iterates, residuals and products stay in double, so the solution's
+// accuracy is the same), and reading half the bytes saved 7 % of the solve
+// time on octa-flower at the same iteration count.
 //
 // Block size: about 8 blocks (for the threads to share), each of 16 384 to
 // 65 536 rows. Larger blocks drop fewer couplings: on octa-flower (671 270

@@ -22,16 +22,17 @@
 // Products and reductions run over fixed blocks with vtkSMPTools, so every
 // iterative result is bitwise identical whatever the number of threads.
 //
-// Why (BenchAT, 2 cores, paper's parameters, 20 steps, medians): the CGs are
-// 5-7x faster than SimplicialLDLT already at 50k faces (IC 0.88-0.95 s,
-// Jacobi 1.07-1.23 s, LDL^T 6.4-6.7 s; CHOLMOD with Debian's reference BLAS
-// is slower still), and the direct solvers' refactorisation (fill-in on a
-// closed surface) grows faster than the surface. IC(0) needs 2.2-2.8x fewer
-// iterations than Jacobi; each costs about twice as much memory traffic, so
-// it is 1.2-1.6x faster up to 128^3, where vectors are partly cache-resident,
-// and on a par on octa-flower 512^3 (12.8 s against 13.2 s), where both are
-// bound by memory bandwidth. At CGTolerance 1e-8 the final u and v differ
-// from the LDL^T result by less than 1e-7 (absolute; u is unit, v in [0, 1]).
+// Why (BenchAT, 2 cores, paper's parameters, 20 steps, medians of 3): the
+// CGs are 5-10x faster than SimplicialLDLT already at 50k faces (IC 0.70 s,
+// Jacobi 1.27 s, LDL^T 5.5 s; CHOLMOD with Debian's reference BLAS is slower
+// still), and the direct solvers' refactorisation (fill-in on a closed
+// surface) grows faster than the surface. IC(0) needs 2.3x fewer iterations
+// than Jacobi and, arranged to make two passes over memory per iteration
+// (ICSystem::UpdateAndPrecondition), costs little more per iteration: on
+// octa-flower 512^3 the whole run takes 8.6 s against 12.2 s (857 against
+// 1951 iterations). At CGTolerance 1e-8 the final u and v differ from the
+// LDL^T result by less than 1e-7 (absolute; u is unit, v in [0, 1]); 1e-7
+// would save 18 % of the iterations but lets v drift by up to 5e-7.
 #ifndef dgATSolver_h
 #define dgATSolver_h
 
