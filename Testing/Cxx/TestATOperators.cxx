@@ -154,8 +154,18 @@ TEST(ATOperators, CubeMatchesHandWrittenMatrices)
   ASSERT_EQ(c.NumberOfVertices(), 8);
   ASSERT_EQ(c.NumberOfEdges(), 12);
   ASSERT_EQ(c.NumberOfFaces(), 6);
-  const int edges[12][2] = { { 0, 1 }, { 0, 2 }, { 0, 4 }, { 1, 3 }, { 1, 5 }, { 2, 3 }, { 2, 6 },
-    { 3, 7 }, { 4, 5 }, { 4, 6 }, { 5, 7 }, { 6, 7 } };
+  const int edges[12][2] = { { 0, 1 },
+    { 0, 2 },
+    { 0, 4 },
+    { 1, 3 },
+    { 1, 5 },
+    { 2, 3 },
+    { 2, 6 },
+    { 3, 7 },
+    { 4, 5 },
+    { 4, 6 },
+    { 5, 7 },
+    { 6, 7 } };
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(12, 8), m = Eigen::MatrixXd::Zero(12, 8);
   for (int e = 0; e < 12; ++e)
   {
@@ -314,9 +324,11 @@ TEST(ATOperators, NonManifoldDigitalSurface)
 {
   // Two voxels touching along an edge only: that linel has four quads, and
   // B still sums to zero there (two enter, two leave).
-  auto image = dgtest::MakeImage(4, 4, 3, [](int i, int j, int k) {
-    return (k == 1 && ((i == 1 && j == 1) || (i == 2 && j == 2))) ? 1.0 : 0.0;
-  });
+  auto image = dgtest::MakeImage(4,
+    4,
+    3,
+    [](int i, int j, int k)
+    { return (k == 1 && ((i == 1 && j == 1) || (i == 2 && j == 2))) ? 1.0 : 0.0; });
   auto pd = Surface(image);
   const dg::ATComplex c = Build(FromPolyData(pd));
   EXPECT_EQ(c.NumberOfFaces(), 12);
@@ -364,7 +376,7 @@ TEST(ATOperators, SystemsAndEnergyMatchOperatorFormulas)
   s.AssembleU();
   s.AssembleV(eps);
   const Eigen::MatrixXd ku = params.Alpha * Eigen::MatrixXd::Identity(g.rows(), g.rows()) +
-    b.transpose() * mv.cwiseAbs2().asDiagonal() * b;
+                             b.transpose() * mv.cwiseAbs2().asDiagonal() * b;
   const Eigen::VectorXd q = bu.cwiseAbs2().rowwise().sum();
   const Eigen::MatrixXd kv =
     params.Lambda / (4 * eps) * Eigen::MatrixXd::Identity(v.size(), v.size()) +
@@ -374,8 +386,9 @@ TEST(ATOperators, SystemsAndEnergyMatchOperatorFormulas)
 
   // Energy: operators vs the solver's per-edge sums vs a brute force over
   // the polygons' sides (each manifold edge seen twice, once per face).
-  const double fromOperators = params.Alpha * (u - g).squaredNorm() +
-    (mv.asDiagonal() * bu).squaredNorm() + params.Lambda * eps * (a * v).squaredNorm() +
+  const double fromOperators =
+    params.Alpha * (u - g).squaredNorm() + (mv.asDiagonal() * bu).squaredNorm() +
+    params.Lambda * eps * (a * v).squaredNorm() +
     params.Lambda / (4 * eps) * (Eigen::VectorXd::Ones(v.size()) - v).squaredNorm();
   std::map<std::pair<std::int64_t, std::int64_t>, std::vector<std::pair<std::int64_t, int>>> sides;
   for (std::int64_t f = 0; f < p.NumberOfFaces(); ++f)
@@ -413,8 +426,10 @@ TEST(ATOperators, OneStepEqualsDenseSolve)
   auto pd = Surface(dgtest::Ball(8, 2.6));
   const dg::ATComplex c = Build(FromPolyData(pd));
   const Eigen::MatrixXd g = TrivialNormalsPlusNoise(pd, 0.4, 5);
-  for (auto solver : { dg::ATLinearSolver::ConjugateGradient, dg::ATLinearSolver::SimplicialLDLT,
-         dg::ATLinearSolver::Cholmod, dg::ATLinearSolver::ConjugateGradientIC })
+  for (auto solver : { dg::ATLinearSolver::ConjugateGradient,
+         dg::ATLinearSolver::SimplicialLDLT,
+         dg::ATLinearSolver::Cholmod,
+         dg::ATLinearSolver::ConjugateGradientIC })
   {
     if (solver == dg::ATLinearSolver::Cholmod && !dg::CholmodAvailable())
     {
@@ -434,7 +449,7 @@ TEST(ATOperators, OneStepEqualsDenseSolve)
     const Eigen::MatrixXd a = Dense(c.MatrixA()), b = Dense(c.MatrixB()), m = Dense(c.MatrixM());
     const Eigen::VectorXd mv = m * s.V();
     const Eigen::MatrixXd ku = params.Alpha * Eigen::MatrixXd::Identity(g.rows(), g.rows()) +
-      b.transpose() * mv.cwiseAbs2().asDiagonal() * b;
+                               b.transpose() * mv.cwiseAbs2().asDiagonal() * b;
     const Eigen::MatrixXd uRef = ku.ldlt().solve(params.Alpha * g);
     ASSERT_TRUE(s.StepU()) << dg::ATLinearSolverName(solver);
     EXPECT_LT(MaxAbs(s.U() - uRef), 1e-10) << dg::ATLinearSolverName(solver);
@@ -442,12 +457,47 @@ TEST(ATOperators, OneStepEqualsDenseSolve)
     const Eigen::VectorXd q = (b * s.U()).cwiseAbs2().rowwise().sum();
     const int n = static_cast<int>(s.V().size());
     const Eigen::MatrixXd kv = params.Lambda / (4 * eps) * Eigen::MatrixXd::Identity(n, n) +
-      params.Lambda * eps * a.transpose() * a + m.transpose() * q.asDiagonal() * m;
+                               params.Lambda * eps * a.transpose() * a +
+                               m.transpose() * q.asDiagonal() * m;
     const Eigen::VectorXd vRef =
       kv.ldlt().solve(Eigen::VectorXd::Constant(n, params.Lambda / (4 * eps)));
     ASSERT_TRUE(s.StepV(eps)) << dg::ATLinearSolverName(solver);
     EXPECT_LT(MaxAbs(s.V() - vRef), 1e-10) << dg::ATLinearSolverName(solver);
     EXPECT_TRUE(s.Warnings().empty());
+  }
+}
+
+// The CG solvers fix the column count at compile time for 1 and 3 columns
+// and take any other count at run time: that path must solve as exactly.
+TEST(ATOperators, StepUWithOtherColumnCountsEqualsDenseSolve)
+{
+  auto pd = Surface(dgtest::Ball(8, 2.6));
+  const dg::ATComplex c = Build(FromPolyData(pd));
+  const Eigen::MatrixXd b = Dense(c.MatrixB()), m = Dense(c.MatrixM());
+  for (int nc : { 2, 5, 17 })
+  {
+    const Eigen::MatrixXd g = RandomField(c.NumberOfFaces(), nc, 40 + nc);
+    for (auto solver :
+      { dg::ATLinearSolver::ConjugateGradient, dg::ATLinearSolver::ConjugateGradientIC })
+    {
+      dg::ATParameters params;
+      params.Solver = solver;
+      params.CGTolerance = 1e-13;
+      params.Normalize = false;
+      dg::ATSolver s(c, params);
+      s.Initialize(g);
+      for (std::int64_t i = 0; i < s.V().size(); ++i)
+      {
+        s.V()[i] = 0.3 + 0.7 * std::abs(std::sin(1.3 * i));
+      }
+      const Eigen::VectorXd mv = m * s.V();
+      const Eigen::MatrixXd ku = params.Alpha * Eigen::MatrixXd::Identity(g.rows(), g.rows()) +
+                                 b.transpose() * mv.cwiseAbs2().asDiagonal() * b;
+      const Eigen::MatrixXd uRef = ku.ldlt().solve(params.Alpha * g);
+      ASSERT_TRUE(s.StepU()) << dg::ATLinearSolverName(solver) << ", " << nc << " columns";
+      EXPECT_LT(MaxAbs(s.U() - uRef), 1e-10)
+        << dg::ATLinearSolverName(solver) << ", " << nc << " columns";
+    }
   }
 }
 
@@ -459,7 +509,8 @@ TEST(ATOperators, EnergyDecreasesWithinEachLevel)
   shapes.push_back(Surface(dgtest::Digitize(*cube, 25)));
   auto cs = dgtest::MakeCubeSphere(Eigen::Vector3d(12.1, 11.9, 12.2), 8, 10);
   shapes.push_back(Surface(dgtest::Digitize(*cs, 25)));
-  for (auto solver : { dg::ATLinearSolver::SimplicialLDLT, dg::ATLinearSolver::ConjugateGradient,
+  for (auto solver : { dg::ATLinearSolver::SimplicialLDLT,
+         dg::ATLinearSolver::ConjugateGradient,
          dg::ATLinearSolver::ConjugateGradientIC })
   {
     for (std::size_t k = 0; k < shapes.size(); ++k)
@@ -498,7 +549,8 @@ TEST(ATOperators, SolversAgreeAndRunIsDeterministic)
   auto pd = Surface(dgtest::Digitize(*cube, 33));
   const dg::ATComplex c = Build(FromPolyData(pd));
   const Eigen::MatrixXd g = TrivialNormalsPlusNoise(pd, 0.2, 9);
-  auto run = [&](dg::ATLinearSolver solver, int threads) {
+  auto run = [&](dg::ATLinearSolver solver, int threads)
+  {
     vtkSMPTools::Initialize(threads);
     dg::ATParameters params;
     params.Solver = solver;
@@ -513,9 +565,8 @@ TEST(ATOperators, SolversAgreeAndRunIsDeterministic)
   auto ic2 = run(dg::ATLinearSolver::ConjugateGradientIC, 2);
   auto ic1 = run(dg::ATLinearSolver::ConjugateGradientIC, 1);
   vtkSMPTools::Initialize(2);
-  auto rel = [](const Eigen::MatrixXd& x, const Eigen::MatrixXd& ref) {
-    return MaxAbs(x - ref) / MaxAbs(ref);
-  };
+  auto rel = [](const Eigen::MatrixXd& x, const Eigen::MatrixXd& ref)
+  { return MaxAbs(x - ref) / MaxAbs(ref); };
   EXPECT_LT(rel(cg2->U(), ldlt->U()), 1e-6);
   EXPECT_LT(rel(cg2->V(), ldlt->V()), 1e-6);
   EXPECT_LT(rel(ic2->U(), ldlt->U()), 1e-6);
@@ -543,7 +594,8 @@ TEST(ATOperators, InvalidParametersAreReported)
 {
   const dg::ATComplex c = Build(Cube());
   const Eigen::MatrixXd g = RandomField(6, 3, 1);
-  auto check = [&](auto change, const char* word) {
+  auto check = [&](auto change, const char* word)
+  {
     dg::ATParameters p;
     change(p);
     EXPECT_NE(p.Check().find(word), std::string::npos) << p.Check();
@@ -568,8 +620,8 @@ TEST(ATOperators, FailedSolvesWarnAndKeepPreviousValues)
   auto pd = Surface(dgtest::Ball(12, 4.3));
   const dg::ATComplex c = Build(FromPolyData(pd));
   const Eigen::MatrixXd g = TrivialNormalsPlusNoise(pd, 0.3, 3);
-  for (auto solver : { dg::ATLinearSolver::ConjugateGradient,
-         dg::ATLinearSolver::ConjugateGradientIC })
+  for (auto solver :
+    { dg::ATLinearSolver::ConjugateGradient, dg::ATLinearSolver::ConjugateGradientIC })
   {
     dg::ATParameters params;
     params.Solver = solver;
