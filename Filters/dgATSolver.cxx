@@ -643,11 +643,9 @@ public:
     // The row sums are kept in registers and stored once: z_i and z_j are
     // in the same array, so accumulating in z itself would chain every
     // product through a store and a reload.
-    auto forward = [&](std::int64_t i, double* s)
+    // t: nc doubles of scratch (registers when NC is fixed).
+    auto forward = [&](std::int64_t i, double* s, double* t)
     {
-      double tFixed[NC > 0 ? NC : 1];
-      std::vector<double> tDyn(NC > 0 ? 0 : nc);
-      double* t = NC > 0 ? tFixed : tDyn.data();
       for (int c = 0; c < nc; ++c)
       {
         const std::int64_t ic = i * nc + c;
@@ -677,11 +675,8 @@ public:
         s[nc + c] += t[c] * t[c] * this->InvD[i];
       }
     };
-    auto backward = [&](std::int64_t i)
+    auto backward = [&](std::int64_t i, double* t)
     {
-      double tFixed[NC > 0 ? NC : 1];
-      std::vector<double> tDyn(NC > 0 ? 0 : nc);
-      double* t = NC > 0 ? tFixed : tDyn.data();
       double* zi = z.data() + i * nc;
       const double di = this->InvD[i];
       for (int c = 0; c < nc; ++c)
@@ -711,17 +706,18 @@ public:
         {
           // Sums in a local array (z could alias Partial as far as the
           // compiler knows), copied out per block.
-          double sFixed[2 * (NC > 0 ? NC : 1)] = {};
-          std::vector<double> sDyn(NC > 0 ? 0 : 2 * nc, 0.0);
+          double sFixed[2 * (NC > 0 ? NC : 1)] = {}, tFixed[NC > 0 ? NC : 1];
+          std::vector<double> sDyn(NC > 0 ? 0 : 2 * nc, 0.0), tDyn(NC > 0 ? 0 : nc);
           double* s = NC > 0 ? sFixed : sDyn.data();
+          double* t = NC > 0 ? tFixed : tDyn.data();
           const std::int64_t i0 = this->Blocks[blk], i1 = this->Blocks[blk + 1];
           for (std::int64_t i = i0; i < i1; ++i)
           {
-            forward(i, s);
+            forward(i, s, t);
           }
           for (std::int64_t i = i1 - 1; i >= i0; --i)
           {
-            backward(i);
+            backward(i, t);
           }
           std::copy(s, s + 2 * nc, this->Partial.begin() + blk * 2 * nc);
         }
