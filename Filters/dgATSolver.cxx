@@ -424,8 +424,8 @@ private:
 
 // Conjugate gradients preconditioned by a zero fill-in incomplete
 // factorisation A ~ L D L^T (IC(0)) in the surface's own order, block
-// Jacobi style: the rows are cut into fixed contiguous ranges (at least
-// the rows given below, a count that depends on the size only) and the
+// Jacobi style: the rows are cut into fixed contiguous ranges (sizes below,
+// a function of the matrix size only) and the
 // couplings between ranges are left out of the factor, so that the ranges
 // are factorised and swept in parallel and the result does not depend on
 // the number of threads. The matrices are diagonally dominant with positive
@@ -609,7 +609,8 @@ public:
   }
 
   // The CG below is arranged so that each iteration makes two passes over
-  // memory instead of four (the solve is bound by memory bandwidth):
+  // memory instead of four (fewer loads and stores; profiling showed the
+  // sweeps, not DRAM bandwidth, to be the cost, see the register sums below):
   //  1. per IC block: x += alpha p, r -= alpha q, then z = (L D L^T)^-1 r for
   //     that block (forward and backward sweeps while the block's rows are
   //     still in cache), with the sums r.r and r.z;
@@ -631,7 +632,7 @@ public:
   {
     const int nc = NC > 0 ? NC : ncRun;
     const std::int64_t nBlocks = static_cast<std::int64_t>(this->Blocks.size()) - 1;
-    this->Partial.assign(nBlocks * 2 * nc, 0.0);
+    this->Partial.resize(nBlocks * 2 * nc); // every block writes its own sums
     double aFixed[NC > 0 ? NC : 1] = {};
     std::vector<double> aDyn(NC > 0 ? 0 : nc);
     double* a = NC > 0 ? aFixed : aDyn.data();
@@ -722,18 +723,10 @@ public:
           std::copy(s, s + 2 * nc, this->Partial.begin() + blk * 2 * nc);
         }
       });
-    for (int c = 0; c < nc; ++c)
-    {
-      rr[c] = rz[c] = 0.0;
-    }
-    for (std::int64_t blk = 0; blk < nBlocks; ++blk)
-    {
-      for (int c = 0; c < nc; ++c)
-      {
-        rr[c] += this->Partial[blk * 2 * nc + c];
-        rz[c] += this->Partial[blk * 2 * nc + nc + c];
-      }
-    }
+    std::vector<double> sums(2 * nc);
+    ReduceBlocks(this->Partial, nBlocks, 2 * nc, sums.data());
+    std::copy(sums.begin(), sums.begin() + nc, rr);
+    std::copy(sums.begin() + nc, sums.end(), rz);
   }
 
   // p = g z + h p and q = g A z + h q per column, with the sums p.q; (g, h)
