@@ -33,8 +33,11 @@
  *
  * With ComputeCurvatures on (off by default): "IIMeanCurvature",
  * "IIGaussianCurvature", "IIK1", "IIK2" (k1 >= k2, 1 / world length; convex
- * is positive) and "IIK1Direction", "IIK2Direction" (unit, world, sign
- * arbitrary). Curvatures need an isotropic spacing.
+ * is positive) and "IIK1Direction", "IIK2Direction" (the tangent directions
+ * of k1 and k2: unit, world, sign arbitrary; k1's is the eigenvector of the
+ * smaller tangent eigenvalue of the covariance, which MATH.md section 6 pairs
+ * the other way: see dgIntegralInvariant.cxx). Curvatures need an isotropic
+ * spacing.
  *
  * Radius: in voxels (RadiusUnits VOXELS, default, Radius 3) or in world
  * units (WORLD: divided by the spacing, which must then be isotropic). The
