@@ -632,8 +632,9 @@ void EstimateFromMoments(const IIMoments& m, int direction, double radius, bool 
   // K1 comes from a2 - 3 a1: it is the curvature along mu1's eigenvector,
   // the smaller tangent eigenvalue (a surface that curves away more along a
   // direction leaves less of the ball's inside near the rim there). MATH.md
-  // section 6 pairs k1 with mu2's eigenvector, as DGtal did until 2022
-  // (DGtal pull request 1657); the tilted-cylinder test settles it. With a
+  // section 6 pairs k1 with mu2's eigenvector (so did DGtal's combined
+  // curvature-and-direction functor until its pull request 1657); the
+  // tilted-cylinder and torus tests settle it. With a
   // per-direction reference the order can flip (k1 >= k2 always).
   const int e1 = out.K1 >= out.K2 ? 1 : 2;
   if (out.K1 < out.K2)
