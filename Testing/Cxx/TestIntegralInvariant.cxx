@@ -672,7 +672,7 @@ TEST(IIEstimator, OrientationUnderNoise)
       vtkDataArray* ii = out->GetCellData()->GetArray("IINormals");
       vtkDataArray* trivial = out->GetCellData()->GetArray("Normals");
       ASSERT_NE(ii, nullptr);
-      vtkIdType near = 0, good = 0, goodTrivialRule = 0;
+      vtkIdType near = 0, good = 0, goodTrivialRule = 0, away = 0, goodAway = 0;
       for (vtkIdType c = 0; c < out->GetNumberOfCells(); ++c)
       {
         if (std::abs(shape->Value(centres[c])) > 2)
@@ -683,18 +683,30 @@ TEST(IIEstimator, OrientationUnderNoise)
         const V3 truth = shape->Normal(centres[c]);
         const V3 n2 = Tuple(ii, c);
         good += n2.dot(truth) > 0;
+        // Within 2 voxels of a sharp edge the true normal jumps (the nearest
+        // face's), and a normal blending the faces can be on the other side.
+        if (shape->DistanceToSharpEdge(centres[c]) > 2)
+        {
+          ++away;
+          goodAway += n2.dot(truth) > 0;
+        }
         // The reference implementation's rule: the same eigenvector, signed
         // by the trivial normal.
         const V3 flipped = n2.dot(Tuple(trivial, c)) >= 0 ? n2 : V3(-n2);
         goodTrivialRule += flipped.dot(truth) > 0;
       }
       const double frac = double(good) / near, fracTrivial = double(goodTrivialRule) / near;
+      const double fracAway = double(goodAway) / away;
       std::printf("%-14s k=0.3 r=%.0f: %lld surfels within 2 voxels; outward: barycentre rule "
-                  "%.4f, trivial-normal rule %.4f\n",
-        shape->Name().c_str(), r, static_cast<long long>(near), frac, fracTrivial);
+                  "%.4f, trivial-normal rule %.4f; farther than 2 voxels from sharp edges "
+                  "(%lld): %.4f\n",
+        shape->Name().c_str(), r, static_cast<long long>(near), frac, fracTrivial,
+        static_cast<long long>(away), fracAway);
       EXPECT_GT(near, 5000);
-      // r = 3 is of the size of the noise's bumps: 98.3% (cube), 98.6% (wedge).
+      // r = 3 is of the size of the noise's bumps: 98.3% (cube), 98.6% (wedge),
+      // the failures mostly (84%, 81%) within 2 voxels of a sharp edge.
       EXPECT_GE(frac, r >= 4 ? 0.99 : 0.98) << shape->Name() << " r " << r;
+      EXPECT_GE(fracAway, 0.99) << shape->Name() << " r " << r;
       EXPECT_LT(fracTrivial, 0.8);
     }
   }
