@@ -11,6 +11,7 @@
 
 #include <vtkCellData.h>
 #include <vtkCommand.h>
+#include <vtkErrorCode.h>
 #include <vtkExecutive.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
@@ -28,6 +29,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 #include <string>
@@ -97,7 +99,7 @@ Ambrosio-Tortorelli (lengths in voxels: the metric is the identity)
   --solver S             linear solver: ic (default; CG with incomplete Cholesky),
                          cg (CG with Jacobi), ldlt (exact, 5-7x slower), cholmod
 Outputs (in --output-dir, named PREFIX_*; PREFIX defaults to the input's name)
-  --output-dir DIR       default: current directory
+  --output-dir DIR       default: current directory (created if missing)
   --prefix NAME          file name prefix
   --size N               grid size of the built-in shape (default 96)
   --no-png               no picture
@@ -391,6 +393,16 @@ int main(int argc, char* argv[])
     t = now;
   };
 
+  // Before any work: a run that cannot write its results should not take
+  // minutes to say so.
+  {
+    std::error_code ec;
+    std::filesystem::create_directories(opt.OutputDir, ec);
+    if (ec || !std::filesystem::is_directory(opt.OutputDir))
+      return Fail("cannot create the output directory '" + opt.OutputDir +
+        "': " + (ec ? ec.message() : std::string("a file of that name exists")));
+  }
+
   vtkNew<ProgressBar> progress;
   progress->Enabled = !opt.Quiet && isatty(2);
   vtkNew<ErrorCatcher> errors;
@@ -498,32 +510,45 @@ int main(int argc, char* argv[])
 
   // 5. Files.
   OutputFiles files;
-  const std::string base = opt.OutputDir + "/" + prefix;
+  const std::string base = (std::filesystem::path(opt.OutputDir) / prefix).string();
+  // The writers' errors go to the catcher too: one line instead of VTK's
+  // multi-line report, and the reason (errno text) is in it.
+  auto written = [&](auto* w) {
+    w->AddObserver(vtkCommand::ErrorEvent, errors);
+    w->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, errors);
+    // Write() can return 1 when the file did not open; the error code tells.
+    return w->Write() == 1 && w->GetErrorCode() == vtkErrorCode::NoError && !errors->Failed;
+  };
+  auto writeFailure = [&](const std::string& path) {
+    return Fail("cannot write " + path + (errors->Message.empty() ? "" : " (" + errors->Message + ")"));
+  };
   auto writeVtp = [&](vtkPolyData* pd, const std::string& path) {
     vtkNew<vtkXMLPolyDataWriter> w;
     w->SetInputData(pd);
     w->SetFileName(files.Temporary(path).c_str());
     w->SetDataModeToBinary(); // appended data trips Debian's expat + VTK 9.2 reader
     w->SetCompressorTypeToZLib();
-    return w->Write() == 1;
+    return written(w.Get());
   };
-  if (!writeVtp(result, base + "_surface.vtp") || !writeVtp(features, base + "_features.vtp"))
-    return Fail("cannot write into '" + opt.OutputDir + "'");
+  if (!writeVtp(result, base + "_surface.vtp"))
+    return writeFailure(base + "_surface.vtp");
+  if (!writeVtp(features, base + "_features.vtp"))
+    return writeFailure(base + "_features.vtp");
   if (opt.Ply)
   {
     vtkNew<vtkPLYWriter> w;
     w->SetInputData(result);
     w->SetFileName(files.Temporary(base + "_surface.ply").c_str());
-    if (w->Write() != 1)
-      return Fail("cannot write " + base + "_surface.ply");
+    if (!written(w.Get()))
+      return writeFailure(base + "_surface.ply");
   }
   if (opt.Obj)
   {
     vtkNew<vtkOBJWriter> w;
     w->SetInputData(result);
     w->SetFileName(files.Temporary(base + "_surface.obj").c_str());
-    if (w->Write() != 1)
-      return Fail("cannot write " + base + "_surface.obj");
+    if (!written(w.Get()))
+      return writeFailure(base + "_surface.obj");
   }
   lap("write");
   if (opt.Png)

@@ -211,6 +211,25 @@ for what, args, status in bad_cases:
           "%s: exit %d (want %d), message %r, files left %s" %
           (what, p.returncode, status, lines[-1] if lines else "", left))
 
+# Output folder: created when missing; a clear one-line error, before any
+# work, when it cannot be; a file that cannot be written leaves nothing.
+nested = os.path.join(ROOT, "new", "nested")
+p, _ = run(inputs["v2.vol"], "--no-png", "--prefix", "d", out=nested)
+check(p.returncode == 0 and sorted(os.listdir(nested)) == ["d_features.vtp", "d_surface.vtp"],
+      "missing output folder is created: exit %d, %s" % (p.returncode, os.listdir(nested)
+                                                        if os.path.isdir(nested) else "no folder"))
+blocker = write("a_file", b"x")
+p, _ = run(inputs["v2.vol"], out=blocker)
+lines = [l for l in p.stderr.strip().splitlines() if l.strip()]
+check(p.returncode == 1 and len(lines) == 1 and "output directory" in lines[0],
+      "output folder that is a file: exit %d, stderr %r" % (p.returncode, lines))
+p, out = run(inputs["v2.vol"], "--ply", "--prefix", os.path.join("no_such_dir", "x"))
+lines = [l for l in p.stderr.strip().splitlines() if l.strip()]
+check(p.returncode == 1 and len(lines) == 1 and "cannot write" in lines[0]
+      and not os.listdir(out),
+      "file that cannot be opened: exit %d, stderr %r, files left %s" %
+      (p.returncode, lines, os.listdir(out)))
+
 # Noise: repeatable with a seed, different with another.
 a, out_a = run(inputs["v2.vol"], "--noise", "0.3", "--seed", "4", "--no-png", "--prefix", "n")
 b, out_b = run(inputs["v2.vol"], "--noise", "0.3", "--seed", "4", "--no-png", "--prefix", "n")
