@@ -524,6 +524,45 @@ TEST(IIEstimator, PrincipalCurvaturesAndDirectionsOnTiltedCylinder)
   }
 }
 //------------------------------------------------------------------------------
+TEST(IIEstimator, ConcaveSphericalCavity)
+{
+  // A ball-shaped hole in a block: the surface's outward normals point into
+  // the hole, and with "convex is positive" every curvature is -1/R there.
+  const int n = 64;
+  const double R = 20;
+  const V3 mid(31.7, 32.2, 31.4);
+  auto image = dgtest::MakeImage(n, n, n, [&](int i, int j, int k) {
+    const bool inBlock = std::min({ i, j, k }) >= 2 && std::max({ i, j, k }) <= n - 3;
+    return inBlock && (V3(i, j, k) - mid).norm() > R ? 1.0 : 0.0;
+  });
+  auto out = Estimate(image, 6.0, true);
+  const auto centres = dgtest::SurfelCenters(out);
+  vtkCellData* cd = out->GetCellData();
+  std::vector<double> H, k1, k2, inward;
+  for (vtkIdType c = 0; c < out->GetNumberOfCells(); ++c)
+  {
+    const V3 d = centres[c] - mid;
+    if (d.norm() > R + 2)
+    {
+      continue; // the block's outer faces
+    }
+    H.push_back(cd->GetArray("IIMeanCurvature")->GetTuple1(c) * R);
+    k1.push_back(cd->GetArray("IIK1")->GetTuple1(c) * R);
+    k2.push_back(cd->GetArray("IIK2")->GetTuple1(c) * R);
+    inward.push_back(-Tuple(cd->GetArray("IINormals"), c).dot(d.normalized()));
+  }
+  const double mH = Percentile(H, 0.5), m1 = Percentile(k1, 0.5), m2 = Percentile(k2, 0.5);
+  std::printf("spherical cavity R=%.0f, r=6, %zu surfels: median H*R %.3f  k1*R %.3f  k2*R %.3f; "
+              "smallest cos(normal, towards the centre) %.3f\n",
+    R, H.size(), mH, m1, m2, *std::min_element(inward.begin(), inward.end()));
+  EXPECT_GT(H.size(), 5000u);
+  EXPECT_NEAR(mH, -1.0, 0.1);
+  EXPECT_NEAR(0.5 * (m1 + m2), -1.0, 0.1);
+  EXPECT_LT(m1, 0.0);
+  EXPECT_GT(*std::min_element(inward.begin(), inward.end()), 0.9);
+}
+
+//------------------------------------------------------------------------------
 TEST(IIEstimator, CurvatureSignsOnTorus)
 {
   // A torus (axis z, tube radius a around a circle of radius Rt): at the angle
