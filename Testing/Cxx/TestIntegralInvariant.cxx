@@ -810,20 +810,32 @@ TEST(IIEstimator, WorldUnitsSpacingAndDirectionMatrix)
       0.5 * ref->GetCellData()->GetArray("IIMeanCurvature")->GetTuple1(c), 1e-12);
   }
 
-  // A direction matrix (rotation by 90 degrees about z): world normals are
-  // the rotated grid normals.
+  // A direction matrix (rotation by 90 degrees about z): world normals and
+  // principal directions are the rotated grid ones, curvatures unchanged.
   auto rotated = vtkSmartPointer<vtkImageData>::New();
   rotated->DeepCopy(image);
   const double R[9] = { 0, -1, 0, 1, 0, 0, 0, 0, 1 };
   rotated->SetDirectionMatrix(R);
-  auto rot = Estimate(rotated, 3.0);
+  auto rot = Estimate(rotated, 3.0, true);
   ASSERT_EQ(rot->GetNumberOfCells(), ref->GetNumberOfCells());
+  auto rotate = [](const V3& g) { return V3(-g[1], g[0], g[2]); };
   for (vtkIdType c = 0; c < rot->GetNumberOfCells(); ++c)
   {
-    const V3 g = Tuple(ref->GetCellData()->GetArray("IINormals"), c);
-    const V3 w(-g[1], g[0], g[2]);
-    ASSERT_LT((Tuple(rot->GetCellData()->GetArray("IINormals"), c) - w).norm(), 1e-12);
-    ASSERT_GT(w.dot(Tuple(rot->GetCellData()->GetArray("Normals"), c)), 0);
+    vtkCellData* a = ref->GetCellData();
+    vtkCellData* b = rot->GetCellData();
+    const V3 w = rotate(Tuple(a->GetArray("IINormals"), c));
+    ASSERT_LT((Tuple(b->GetArray("IINormals"), c) - w).norm(), 1e-12);
+    ASSERT_GT(w.dot(Tuple(b->GetArray("Normals"), c)), 0);
+    for (const char* name : { "IIK1Direction", "IIK2Direction" })
+    {
+      // Sign arbitrary: compare up to it.
+      const V3 d = rotate(Tuple(a->GetArray(name), c));
+      ASSERT_LT(std::min((Tuple(b->GetArray(name), c) - d).norm(),
+                  (Tuple(b->GetArray(name), c) + d).norm()),
+        1e-9)
+        << name;
+    }
+    ASSERT_NEAR(b->GetArray("IIK1")->GetTuple1(c), a->GetArray("IIK1")->GetTuple1(c), 1e-12);
   }
 
   // Anisotropic spacing: radius in voxels works, world units do not.
