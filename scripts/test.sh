@@ -8,7 +8,8 @@ set -euo pipefail
 source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/setup.sh"
 export VTK_SMP_BACKEND_IN_USE="${VTK_SMP_BACKEND_IN_USE:-STDThread}"
 status=0
-(cd "$DG_BUILD" && xvfb-run -a -s "-screen 0 1280x1024x24" ctest --output-on-failure -j2 "$@") || status=1
+# Tests that render start their own X server (Testing/with-own-display.sh).
+(cd "$DG_BUILD" && ctest --output-on-failure -j2 "$@") || status=1
 if [ "${DG_SKIP_VTK91:-0}" != "1" ]; then
   echo "[test] module against Debian's VTK 9.1 (no ParaView, no Python)"
   bash "$DG_ROOT/scripts/build-vtk91.sh"

@@ -25,6 +25,7 @@
 #include <vtkPolyData.h>
 
 #include <gtest/gtest.h>
+#include "dgTestTemp.h"
 
 #include <cmath>
 #include <fstream>
@@ -220,7 +221,7 @@ Outcome ReadVolBytes(const std::string& name,
   std::string error;
   dg::EncodeVol(dims, voxels.data(), 3, bytes, error);
   damage(bytes);
-  const std::string path = ::testing::TempDir() + "dg_matrix_" + name + ".vol";
+  const std::string path = dgtest::TempPath("matrix_" + name + ".vol");
   std::ofstream(path, std::ios::binary)
     .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
   vtkNew<vtkDGtalVolReader> reader;

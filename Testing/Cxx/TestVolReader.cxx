@@ -13,6 +13,7 @@
 #include <vtkUnsignedCharArray.h>
 
 #include <gtest/gtest.h>
+#include "dgTestTemp.h"
 
 #include <cstdio>
 #include <fstream>
@@ -20,10 +21,7 @@
 
 namespace
 {
-std::string TempPath(const std::string& name)
-{
-  return ::testing::TempDir() + "dg_" + name;
-}
+using dgtest::TempPath;
 
 std::vector<std::uint8_t> RandomVolume(const int dims[3], unsigned seed)
 {
