@@ -149,8 +149,8 @@ void SquaredDistanceTransform(
   envelope(nz, nx * ny, nx * ny, [&](std::int64_t l) { return l; });
 }
 
-std::int64_t ApplyNoise(
-  std::vector<std::uint8_t>& inside, const int dims[3], double k, std::uint64_t seed)
+std::int64_t ApplyNoise(std::vector<std::uint8_t>& inside, const int dims[3], double k,
+  std::uint64_t seed, const std::function<bool(double)>& progress)
 {
   if (!(k > 0))
   {
@@ -158,8 +158,16 @@ std::int64_t ApplyNoise(
   }
   std::vector<std::uint8_t> boundary;
   BoundaryVoxels(inside, dims, boundary);
+  if (progress && !progress(0.15))
+  {
+    return -1;
+  }
   std::vector<std::int64_t> d2;
   SquaredDistanceTransform(boundary, dims, d2);
+  if (progress && !progress(0.75))
+  {
+    return -1;
+  }
   const std::int64_t n = static_cast<std::int64_t>(inside.size());
   const double logk = std::log(k);
   std::vector<std::int64_t> flips(static_cast<std::size_t>(dims[2]), 0);

@@ -7,6 +7,7 @@
 #define dgNoise_h
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace dg
@@ -25,9 +26,12 @@ void BoundaryVoxels(
   const std::vector<std::uint8_t>& inside, const int dims[3], std::vector<std::uint8_t>& boundary);
 
 /// Applies the noise in place to a 0/1 volume. k in [0, 1]; k = 0 leaves the
-/// volume unchanged. Returns the number of flipped voxels.
-std::int64_t ApplyNoise(
-  std::vector<std::uint8_t>& inside, const int dims[3], double k, std::uint64_t seed);
+/// volume unchanged. Returns the number of flipped voxels, or -1 when
+/// progress (optional: called with the done fraction after the boundary and
+/// after the distance transform, before any voxel changes) returned false;
+/// the volume is then unchanged.
+std::int64_t ApplyNoise(std::vector<std::uint8_t>& inside, const int dims[3], double k,
+  std::uint64_t seed, const std::function<bool(double)>& progress = std::function<bool(double)>());
 
 /// Uniform number in [0, 1) from (seed, index): SplitMix64 finaliser.
 double HashUniform(std::uint64_t seed, std::uint64_t index);

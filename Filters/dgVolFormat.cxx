@@ -58,7 +58,7 @@ bool ParseDouble(const std::string& text, double& value)
 } // namespace
 
 bool ParseVol(const std::uint8_t* bytes, std::size_t size, VolHeader& header,
-  std::vector<std::uint8_t>* voxels, std::string& error)
+  std::vector<std::uint8_t>* voxels, std::string& error, const std::function<bool(double)>& progress)
 {
   header = VolHeader();
   std::size_t pos = 0;
@@ -194,7 +194,12 @@ bool ParseVol(const std::uint8_t* bytes, std::size_t size, VolHeader& header,
     error = "cannot initialise zlib";
     return false;
   }
-  const std::size_t chunk = std::size_t(1) << 30;
+  // Output in about 64 pieces when someone watches progress (at least 1 MiB
+  // each); zlib counts in uInt, so never more than 1 GiB at a time.
+  const std::size_t chunk = progress
+    ? std::max<std::size_t>(std::size_t(1) << 20, static_cast<std::size_t>(count) / 64)
+    : std::size_t(1) << 30;
+  const std::size_t inChunk = std::size_t(1) << 30;
   std::uint8_t probe = 0; // one byte past the end: detects a stream that is too long
   bool probing = false;
   int status = Z_OK;
@@ -205,13 +210,18 @@ bool ParseVol(const std::uint8_t* bytes, std::size_t size, VolHeader& header,
     {
       const std::size_t done = zs.total_in;
       zs.next_in = const_cast<Bytef*>(data + done);
-      zs.avail_in = static_cast<uInt>(std::min(available - done, chunk));
+      zs.avail_in = static_cast<uInt>(std::min(available - done, inChunk));
     }
     if (zs.avail_out == 0)
     {
       const std::size_t done = zs.total_out;
       if (done < count)
       {
+        if (progress && done > 0 && !progress(static_cast<double>(done) / count))
+        {
+          failure = "aborted";
+          break;
+        }
         zs.next_out = voxels->data() + done;
         zs.avail_out = static_cast<uInt>(std::min(static_cast<std::size_t>(count) - done, chunk));
       }
@@ -267,7 +277,7 @@ bool ParseVol(const std::uint8_t* bytes, std::size_t size, VolHeader& header,
 }
 
 bool ReadVolFile(const std::string& path, VolHeader& header, std::vector<std::uint8_t>* voxels,
-  std::string& error)
+  std::string& error, const std::function<bool(double)>& progress)
 {
   std::ifstream in(path, std::ios::binary);
   if (!in)
@@ -281,7 +291,7 @@ bool ReadVolFile(const std::string& path, VolHeader& header, std::vector<std::ui
     error = "cannot read '" + path + "'";
     return false;
   }
-  if (!ParseVol(bytes.data(), bytes.size(), header, voxels, error))
+  if (!ParseVol(bytes.data(), bytes.size(), header, voxels, error, progress))
   {
     error = path + ": " + error;
     return false;

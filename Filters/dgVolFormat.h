@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <map>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -24,12 +25,16 @@ struct VolHeader
 /// Parses a whole .vol file held in memory. On failure returns false and
 /// sets error to a one-line reason; header and voxels are then unspecified.
 /// With headerOnly, the voxel data is neither decoded nor checked.
+/// progress (optional) is called with the decoded fraction in [0, 1] about
+/// 64 times while a zlib stream inflates; when it returns false, decoding
+/// stops and error is "aborted".
 bool ParseVol(const std::uint8_t* bytes, std::size_t size, VolHeader& header,
-  std::vector<std::uint8_t>* voxels, std::string& error);
+  std::vector<std::uint8_t>* voxels, std::string& error,
+  const std::function<bool(double)>& progress = std::function<bool(double)>());
 
 /// Reads and parses a file from disk (same contract as ParseVol).
 bool ReadVolFile(const std::string& path, VolHeader& header, std::vector<std::uint8_t>* voxels,
-  std::string& error);
+  std::string& error, const std::function<bool(double)>& progress = std::function<bool(double)>());
 
 /// Encodes a volume as a .vol file (version 2: raw, version 3: zlib).
 bool EncodeVol(const int dims[3], const std::uint8_t* voxels, int version,

@@ -29,10 +29,22 @@
  * cell normals), any number of components. Only the polygon cells take part;
  * other cells (verts, lines, strips) keep their input value.
  *
+ * Normal fields and other fields: the field is a normal field when it is
+ * the input's active cell normals, or when it has 3 components of unit
+ * length (within 1e-3) on every polygon. A normal field gives "ATNormals",
+ * set as the active normals and, with NormalizeVectorField on (default),
+ * of unit length. Any other field (a scalar, a velocity, a 3-vector that is
+ * not unit) gives "<input name>_AT", neither normalised nor made active.
+ * The energy is not invariant to the field's scale (multiplying g by s is
+ * the same as dividing Lambda by s^2), and Alpha and Lambda are tuned for
+ * unit normals, whose components span [-1, 1]: with FieldScaling RANGE
+ * (default) any other field is divided by half its largest component range
+ * before the solve and multiplied back after, so the same features come out
+ * whatever its unit; with FieldScaling NONE it is used as it is, and a
+ * warning says when its half range is outside [0.1, 10].
+ *
  * Output port 0: the input surface (shallow copy) plus
- * - cell data "ATNormals" (double) for a 3-component field, set as the active
- *   normals; for any other field "<input name>_AT". With
- *   NormalizeVectorField on (default) 3-component results are unit vectors.
+ * - cell data "ATNormals" or "<input name>_AT" (double), see above;
  * - point data "ATFeatureIndicator" (double): v, ~1 in smooth parts, ~0 on
  *   sharp features. It is the exact minimiser of the v-system, which is not
  *   an M-matrix (M^T diag(|Bu|^2) M has positive off-diagonal terms), so v
@@ -45,20 +57,38 @@
  * every point of the line is below that value).
  *
  * Bad parameters or input (no polygons, missing field, NaN or infinite
- * values, zero vectors in a field to normalise) give an error and empty
- * outputs. A failed linear solve gives a warning; that step keeps its
- * previous values.
+ * values, zero vectors in a normal field) give an error and empty outputs.
+ * A failed linear solve gives a warning; that step keeps its previous
+ * values. Surfaces on which AT cannot see some jumps give a warning too:
+ * no interior edge at all, or boundary edges that lie on another polygon's
+ * edge with other point ids (cells that do not share their points, e.g.
+ * vtkPolyDataNormals with Splitting on, or a vtkCubeSource not passed
+ * through vtkCleanPolyData): the warning says to merge the points first.
+ *
+ * Re-execution: the solved u and v are kept between executions, and only a
+ * change of the input or of a solve parameter (Alpha, Lambda, the epsilons,
+ * MaximumIterations, Tolerance, LinearSolver, SolverTolerance, FieldScaling,
+ * the field selection) solves again; FeatureThreshold and
+ * NormalizeVectorField only rebuild the outputs (GetNumberOfSolves() counts
+ * the solves). The kept solution costs about 64 bytes per quad of a closed
+ * digital surface (u, v and the edge list).
+ *
+ * Progress is reported at every step of the solve; aborting (SetAbortExecute
+ * from a progress observer) stops within one step and leaves empty outputs,
+ * with no error, and the next Update solves again.
  *
  * The linear systems keep their sparsity pattern over the whole run; the
- * default solver is warm-started Jacobi-preconditioned conjugate gradients
- * (parallel with vtkSMPTools, deterministic whatever the thread count); see
- * dgATSolver.h for the alternatives.
+ * default solver is warm-started conjugate gradients with an incomplete
+ * Cholesky preconditioner (parallel with vtkSMPTools, deterministic whatever
+ * the thread count); see dgATSolver.h for the alternatives.
  */
 #ifndef vtkAmbrosioTortorelliFilter_h
 #define vtkAmbrosioTortorelliFilter_h
 
 #include "vtkDigitalGeometryModule.h"
 #include "vtkPolyDataAlgorithm.h"
+
+#include <memory>
 
 class VTKDIGITALGEOMETRY_EXPORT vtkAmbrosioTortorelliFilter : public vtkPolyDataAlgorithm
 {
@@ -115,7 +145,8 @@ public:
   ///@{
   /**
    * An edge is a feature edge when both its points have v below this value
-   * (in (0, 1), default 0.5).
+   * (in (0, 1), default 0.5). An output parameter: changing it does not
+   * solve again.
    */
   vtkSetMacro(FeatureThreshold, double);
   vtkGetMacro(FeatureThreshold, double);
@@ -123,8 +154,9 @@ public:
 
   ///@{
   /**
-   * Normalise the result to unit length when the field has 3 components
-   * (default on). Ignored for other fields.
+   * Normalise the result to unit length when the field is a normal field
+   * (default on; see the class description). Ignored for other fields. An
+   * output parameter: changing it does not solve again.
    */
   vtkSetMacro(NormalizeVectorField, bool);
   vtkGetMacro(NormalizeVectorField, bool);
@@ -154,14 +186,48 @@ public:
   vtkGetMacro(SolverTolerance, double);
   ///@}
 
+  enum FieldScalings
+  {
+    FIELD_SCALING_NONE = 0,
+    FIELD_SCALING_RANGE = 1
+  };
+
+  ///@{
   /**
-   * Number of (u-step, v-step) pairs made by the last execution.
+   * How a field that is not a normal field is scaled for the solve (default
+   * FIELD_SCALING_RANGE: by half its largest component range; see the class
+   * description). Normal fields are never scaled.
+   */
+  vtkSetClampMacro(FieldScaling, int, FIELD_SCALING_NONE, FIELD_SCALING_RANGE);
+  vtkGetMacro(FieldScaling, int);
+  ///@}
+
+  /**
+   * The factor the field was divided by in the last solve (1 for normal
+   * fields and with FIELD_SCALING_NONE).
+   */
+  vtkGetMacro(FieldScale, double);
+
+  /**
+   * Number of (u-step, v-step) pairs made by the last solve.
    */
   vtkGetMacro(NumberOfIterations, int);
 
+  /**
+   * Number of solves this filter has made since it was created (executions
+   * that only changed output parameters reuse the last solve).
+   */
+  vtkGetMacro(NumberOfSolves, int);
+
+  /**
+   * Includes the aborted state: after an aborted execution the filter is
+   * out of date until it has run again.
+   */
+  vtkMTimeType GetMTime() override;
+
 protected:
   vtkAmbrosioTortorelliFilter();
-  ~vtkAmbrosioTortorelliFilter() override = default;
+  ~vtkAmbrosioTortorelliFilter() override;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
@@ -177,9 +243,15 @@ protected:
   bool NormalizeVectorField = true;
   int LinearSolver = CONJUGATE_GRADIENT_IC;
   double SolverTolerance = 1e-8;
+  int FieldScaling = FIELD_SCALING_RANGE;
+  double FieldScale = 1.0;
   int NumberOfIterations = 0;
+  int NumberOfSolves = 0;
 
 private:
+  struct Internals;
+  std::unique_ptr<Internals> Internal;
+
   vtkAmbrosioTortorelliFilter(const vtkAmbrosioTortorelliFilter&) = delete;
   void operator=(const vtkAmbrosioTortorelliFilter&) = delete;
 };

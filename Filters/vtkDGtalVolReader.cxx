@@ -1,5 +1,6 @@
 #include "vtkDGtalVolReader.h"
 
+#include "dgPipelineAbort.h"
 #include "dgVolFormat.h"
 
 #include <vtkImageData.h>
@@ -46,6 +47,7 @@ bool ReadHeader(const char* fname, dg::VolHeader& header, std::string& error)
 
 vtkDGtalVolReader::vtkDGtalVolReader()
 {
+  this->Abort = std::make_unique<dg::PipelineAbort>();
   this->SetNumberOfInputPorts(0);
 }
 
@@ -83,15 +85,32 @@ int vtkDGtalVolReader::RequestInformation(
   return 1;
 }
 
+vtkMTimeType vtkDGtalVolReader::GetMTime()
+{
+  const vtkMTimeType base = this->Superclass::GetMTime();
+  return this->Abort ? this->Abort->MTime(base) : base;
+}
+
 int vtkDGtalVolReader::RequestData(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   vtkImageData* output = vtkImageData::GetData(outputVector);
+  this->Abort->Begin(outputVector);
   this->LastError.clear();
   dg::VolHeader header;
   std::vector<std::uint8_t> voxels;
-  if (!this->FileName || !dg::ReadVolFile(this->FileName, header, &voxels, this->LastError))
+  const auto progress = [this](double f) {
+    this->UpdateProgress(0.05 + 0.75 * f);
+    return !this->GetAbortExecute();
+  };
+  if (!this->FileName ||
+    !dg::ReadVolFile(this->FileName, header, &voxels, this->LastError, progress))
   {
+    if (this->GetAbortExecute())
+    {
+      this->LastError.clear();
+      return this->Abort->Abort(outputVector);
+    }
     if (!this->FileName)
     {
       this->LastError = "no FileName set";
@@ -101,6 +120,10 @@ int vtkDGtalVolReader::RequestData(
     return 0;
   }
   this->UpdateProgress(0.8);
+  if (this->GetAbortExecute())
+  {
+    return this->Abort->Abort(outputVector);
+  }
   const double s = header.VoxelSize;
   output->SetExtent(0, header.Dims[0] - 1, 0, header.Dims[1] - 1, 0, header.Dims[2] - 1);
   output->SetSpacing(s, s, s);

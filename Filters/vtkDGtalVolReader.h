@@ -19,6 +19,13 @@
 #include "vtkDigitalGeometryModule.h"
 #include "vtkImageAlgorithm.h"
 
+#include <memory>
+
+namespace dg
+{
+class PipelineAbort;
+}
+
 #include <string>
 
 class VTKDIGITALGEOMETRY_EXPORT vtkDGtalVolReader : public vtkImageAlgorithm
@@ -47,6 +54,13 @@ public:
    */
   const char* GetErrorMessage() const { return this->LastError.c_str(); }
 
+  /**
+   * Includes the aborted state: after an aborted execution (SetAbortExecute
+   * from a progress observer: empty outputs, no error) the filter is out of
+   * date until it has run again.
+   */
+  vtkMTimeType GetMTime() override;
+
 protected:
   vtkDGtalVolReader();
   ~vtkDGtalVolReader() override;
@@ -58,6 +72,7 @@ protected:
   std::string LastError;
 
 private:
+  std::unique_ptr<dg::PipelineAbort> Abort;
   vtkDGtalVolReader(const vtkDGtalVolReader&) = delete;
   void operator=(const vtkDGtalVolReader&) = delete;
 };

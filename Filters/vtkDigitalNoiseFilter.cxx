@@ -1,5 +1,6 @@
 #include "vtkDigitalNoiseFilter.h"
 
+#include "dgPipelineAbort.h"
 #include "dgNoise.h"
 #include "dgVoxelSelection.h"
 
@@ -15,8 +16,11 @@
 
 vtkStandardNewMacro(vtkDigitalNoiseFilter);
 
+vtkDigitalNoiseFilter::~vtkDigitalNoiseFilter() = default;
+
 vtkDigitalNoiseFilter::vtkDigitalNoiseFilter()
 {
+  this->Abort = std::make_unique<dg::PipelineAbort>();
   this->SetInputArrayToProcess(
     0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
 }
@@ -29,6 +33,12 @@ int vtkDigitalNoiseFilter::RequestInformation(
   return 1;
 }
 
+vtkMTimeType vtkDigitalNoiseFilter::GetMTime()
+{
+  const vtkMTimeType base = this->Superclass::GetMTime();
+  return this->Abort ? this->Abort->MTime(base) : base;
+}
+
 int vtkDigitalNoiseFilter::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -39,6 +49,11 @@ int vtkDigitalNoiseFilter::RequestData(
   {
     vtkErrorMacro("Missing input image.");
     return 0;
+  }
+  this->Abort->Begin(outputVector);
+  if (dg::PipelineAbort::InputAborted(inputVector, this->GetNumberOfInputPorts()))
+  {
+    return this->Abort->Abort(outputVector);
   }
   int ext[6];
   input->GetExtent(ext);
@@ -61,8 +76,20 @@ int vtkDigitalNoiseFilter::RequestData(
     return 0;
   }
   this->UpdateProgress(0.2);
-  this->NumberOfFlippedVoxels =
-    dg::ApplyNoise(inside, dims, this->NoiseLevel, static_cast<std::uint64_t>(this->Seed));
+  if (this->GetAbortExecute())
+  {
+    return this->Abort->Abort(outputVector);
+  }
+  const std::int64_t flipped = dg::ApplyNoise(inside, dims, this->NoiseLevel,
+    static_cast<std::uint64_t>(this->Seed), [this](double f) {
+      this->UpdateProgress(0.2 + 0.7 * f);
+      return !this->GetAbortExecute();
+    });
+  if (flipped < 0)
+  {
+    return this->Abort->Abort(outputVector);
+  }
+  this->NumberOfFlippedVoxels = flipped;
   this->UpdateProgress(0.9);
 
   output->CopyStructure(input);

@@ -20,6 +20,13 @@
 #include "vtkDigitalGeometryModule.h"
 #include "vtkImageAlgorithm.h"
 
+#include <memory>
+
+namespace dg
+{
+class PipelineAbort;
+}
+
 class VTKDIGITALGEOMETRY_EXPORT vtkDigitalNoiseFilter : public vtkImageAlgorithm
 {
 public:
@@ -66,9 +73,16 @@ public:
    */
   vtkGetMacro(NumberOfFlippedVoxels, vtkIdType);
 
+  /**
+   * Includes the aborted state: after an aborted execution (SetAbortExecute
+   * from a progress observer: empty outputs, no error) the filter is out of
+   * date until it has run again.
+   */
+  vtkMTimeType GetMTime() override;
+
 protected:
   vtkDigitalNoiseFilter();
-  ~vtkDigitalNoiseFilter() override = default;
+  ~vtkDigitalNoiseFilter() override;
 
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
@@ -83,6 +97,7 @@ protected:
   vtkIdType NumberOfFlippedVoxels = 0;
 
 private:
+  std::unique_ptr<dg::PipelineAbort> Abort;
   vtkDigitalNoiseFilter(const vtkDigitalNoiseFilter&) = delete;
   void operator=(const vtkDigitalNoiseFilter&) = delete;
 };

@@ -1,5 +1,6 @@
 #include "vtkDigitalSurfaceFilter.h"
 
+#include "dgPipelineAbort.h"
 #include "dgCubicalSurface.h"
 #include "dgVoxelSelection.h"
 
@@ -25,8 +26,11 @@
 
 vtkStandardNewMacro(vtkDigitalSurfaceFilter);
 
+vtkDigitalSurfaceFilter::~vtkDigitalSurfaceFilter() = default;
+
 vtkDigitalSurfaceFilter::vtkDigitalSurfaceFilter()
 {
+  this->Abort = std::make_unique<dg::PipelineAbort>();
   this->SetInputArrayToProcess(
     0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
 }
@@ -35,6 +39,12 @@ int vtkDigitalSurfaceFilter::FillInputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkImageData");
   return 1;
+}
+
+vtkMTimeType vtkDigitalSurfaceFilter::GetMTime()
+{
+  const vtkMTimeType base = this->Superclass::GetMTime();
+  return this->Abort ? this->Abort->MTime(base) : base;
 }
 
 int vtkDigitalSurfaceFilter::RequestData(
@@ -46,6 +56,11 @@ int vtkDigitalSurfaceFilter::RequestData(
   {
     vtkErrorMacro("Missing input image or output.");
     return 0;
+  }
+  this->Abort->Begin(outputVector);
+  if (dg::PipelineAbort::InputAborted(inputVector, this->GetNumberOfInputPorts()))
+  {
+    return this->Abort->Abort(outputVector);
   }
   int ext[6];
   input->GetExtent(ext);
@@ -95,7 +110,7 @@ int vtkDigitalSurfaceFilter::RequestData(
   this->UpdateProgress(0.3);
   if (this->GetAbortExecute())
   {
-    return 0;
+    return this->Abort->Abort(outputVector);
   }
 
   // 2. The cubical complex.
@@ -106,7 +121,7 @@ int vtkDigitalSurfaceFilter::RequestData(
   });
   if (!done)
   {
-    return 0;
+    return this->Abort->Abort(outputVector);
   }
   mask = dg::PaddedMask(); // release the mask before the output is built
 

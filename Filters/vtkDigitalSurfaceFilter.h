@@ -40,6 +40,13 @@
 #include "vtkDigitalGeometryModule.h"
 #include "vtkPolyDataAlgorithm.h"
 
+#include <memory>
+
+namespace dg
+{
+class PipelineAbort;
+}
+
 class VTKDIGITALGEOMETRY_EXPORT vtkDigitalSurfaceFilter : public vtkPolyDataAlgorithm
 {
 public:
@@ -93,9 +100,16 @@ public:
   vtkGetMacro(SelectedComponent, int);
   ///@}
 
+  /**
+   * Includes the aborted state: after an aborted execution (SetAbortExecute
+   * from a progress observer: empty outputs, no error) the filter is out of
+   * date until it has run again.
+   */
+  vtkMTimeType GetMTime() override;
+
 protected:
   vtkDigitalSurfaceFilter();
-  ~vtkDigitalSurfaceFilter() override = default;
+  ~vtkDigitalSurfaceFilter() override;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
@@ -107,6 +121,7 @@ protected:
   int SelectedComponent = -1;
 
 private:
+  std::unique_ptr<dg::PipelineAbort> Abort;
   vtkDigitalSurfaceFilter(const vtkDigitalSurfaceFilter&) = delete;
   void operator=(const vtkDigitalSurfaceFilter&) = delete;
 };

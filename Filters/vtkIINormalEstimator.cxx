@@ -1,5 +1,6 @@
 #include "vtkIINormalEstimator.h"
 
+#include "dgPipelineAbort.h"
 #include "dgIntegralInvariant.h"
 #include "dgVoxelSelection.h"
 
@@ -70,8 +71,11 @@ bool ReadSurfels(vtkDataArray* voxels, vtkDataArray* directions, vtkIdType n,
 }
 } // namespace
 
+vtkIINormalEstimator::~vtkIINormalEstimator() = default;
+
 vtkIINormalEstimator::vtkIINormalEstimator()
 {
+  this->Abort = std::make_unique<dg::PipelineAbort>();
   this->SetNumberOfInputPorts(2);
   this->SetInputArrayToProcess(
     0, 1, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
@@ -132,6 +136,12 @@ int vtkIINormalEstimator::RequestUpdateExtent(
   return 1;
 }
 
+vtkMTimeType vtkIINormalEstimator::GetMTime()
+{
+  const vtkMTimeType base = this->Superclass::GetMTime();
+  return this->Abort ? this->Abort->MTime(base) : base;
+}
+
 int vtkIINormalEstimator::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -143,6 +153,11 @@ int vtkIINormalEstimator::RequestData(
   {
     vtkErrorMacro("Missing input surface.");
     return 0;
+  }
+  this->Abort->Begin(outputVector);
+  if (dg::PipelineAbort::InputAborted(inputVector, this->GetNumberOfInputPorts()))
+  {
+    return this->Abort->Abort(outputVector);
   }
   if (!image)
   {
@@ -262,7 +277,7 @@ int vtkIINormalEstimator::RequestData(
   this->UpdateProgress(0.1);
   if (this->GetAbortExecute())
   {
-    return 0;
+    return this->Abort->Abort(outputVector);
   }
 
   // 4. Grid to world: tangents go through M = direction * diag(spacing),
@@ -373,15 +388,16 @@ int vtkIINormalEstimator::RequestData(
     fallbacks += localFallbacks;
   };
   // Blocks of surfels so that progress is reported and abort honoured from
-  // the calling thread; each surfel's result is independent of the others.
-  const vtkIdType blocks = std::max<vtkIdType>(1, std::min<vtkIdType>(20, nSurfels / 10000));
+  // the calling thread (every 1% from 200 000 surfels, at least every 2 000
+  // surfels below); each surfel's result is independent of the others.
+  const vtkIdType blocks = std::max<vtkIdType>(1, std::min<vtkIdType>(100, nSurfels / 2000));
   for (vtkIdType blk = 0; blk < blocks; ++blk)
   {
     vtkSMPTools::For(nSurfels * blk / blocks, nSurfels * (blk + 1) / blocks, work);
     this->UpdateProgress(0.1 + 0.9 * (blk + 1) / blocks);
     if (this->GetAbortExecute())
     {
-      return 0;
+      return this->Abort->Abort(outputVector);
     }
   }
   if (badSurfel >= 0)

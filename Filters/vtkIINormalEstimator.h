@@ -61,6 +61,13 @@
 #include "vtkDigitalGeometryModule.h"
 #include "vtkPolyDataAlgorithm.h"
 
+#include <memory>
+
+namespace dg
+{
+class PipelineAbort;
+}
+
 class vtkAlgorithmOutput;
 class vtkDataObject;
 
@@ -171,9 +178,16 @@ public:
    */
   vtkGetMacro(NumberOfTrivialFallbacks, vtkIdType);
 
+  /**
+   * Includes the aborted state: after an aborted execution (SetAbortExecute
+   * from a progress observer: empty outputs, no error) the filter is out of
+   * date until it has run again.
+   */
+  vtkMTimeType GetMTime() override;
+
 protected:
   vtkIINormalEstimator();
-  ~vtkIINormalEstimator() override = default;
+  ~vtkIINormalEstimator() override;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
@@ -191,6 +205,7 @@ protected:
   vtkIdType NumberOfTrivialFallbacks = 0;
 
 private:
+  std::unique_ptr<dg::PipelineAbort> Abort;
   vtkIINormalEstimator(const vtkIINormalEstimator&) = delete;
   void operator=(const vtkIINormalEstimator&) = delete;
 };
