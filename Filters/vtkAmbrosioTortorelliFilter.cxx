@@ -194,8 +194,25 @@ int vtkAmbrosioTortorelliFilter::RequestData(vtkInformation*,
   }
   if (!field)
   {
-    vtkErrorMacro("No field to regularise: the input has no cell array matching the selection "
-                  "(default: the active cell normals). Use SetInputArrayToProcess.");
+    // Say what there is to choose from: the plugin's default (IINormals)
+    // is missing on inputs that did not come from the II estimator.
+    std::string available;
+    vtkCellData* cd = input->GetCellData();
+    for (int i = 0; i < cd->GetNumberOfArrays(); ++i)
+    {
+      if (vtkDataArray* a = cd->GetArray(i))
+      {
+        available += (available.empty() ? "" : ", ") + std::string(a->GetName() ? a->GetName() : "(unnamed)");
+      }
+    }
+    const char* wanted = arrayInfo && arrayInfo->Has(vtkDataObject::FIELD_NAME())
+      ? arrayInfo->Get(vtkDataObject::FIELD_NAME())
+      : nullptr;
+    vtkErrorMacro("No field to regularise: the input has no cell array "
+      << (wanted && *wanted ? "named '" + std::string(wanted) + "'"
+                            : std::string("matching the selection (default: the active cell normals)"))
+      << ". Its cell arrays: " << (available.empty() ? "none" : available)
+      << ". Choose one with SetInputArrayToProcess (ParaView: Field).");
     return 0;
   }
   if (association != vtkDataObject::FIELD_ASSOCIATION_CELLS)
