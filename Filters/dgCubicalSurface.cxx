@@ -271,7 +271,9 @@ bool ExtractCubicalSurface(
 
   // Pass 3: write the surfels of every voxel row, looking their corners up in
   // the four neighbouring corner rows with one forward-moving cursor each.
-  vtkSMPTools::For(0, nVoxelRows, [&](std::int64_t begin, std::int64_t end) {
+  // The longest pass: in slabs of rows, so that progress and abort are
+  // handled every 5% (rows are independent).
+  auto pass3 = [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t r = begin; r < end; ++r)
     {
       const int j = static_cast<int>(r % NY);
@@ -339,8 +341,17 @@ bool ExtractCubicalSurface(
         }
       }
     }
-  });
-  return report(1.0);
+  };
+  const std::int64_t slabs = std::max<std::int64_t>(1, std::min<std::int64_t>(20, nVoxelRows / 64));
+  for (std::int64_t b = 0; b < slabs; ++b)
+  {
+    vtkSMPTools::For(nVoxelRows * b / slabs, nVoxelRows * (b + 1) / slabs, pass3);
+    if (!report(0.7 + 0.3 * (b + 1) / slabs))
+    {
+      return false;
+    }
+  }
+  return true;
 }
 
 } // namespace dg

@@ -1,9 +1,12 @@
 #include "dgPipelineAbort.h"
 
+#include <vtkAlgorithm.h>
 #include <vtkDataObject.h>
+#include <vtkImageData.h>
 #include <vtkInformation.h>
 #include <vtkInformationIntegerKey.h>
 #include <vtkInformationVector.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
 
 #include <algorithm>
 
@@ -28,27 +31,41 @@ void ForEachOutput(vtkInformationVector* outputs, F f)
     vtkInformation* info = outputs->GetInformationObject(i);
     if (vtkDataObject* data = info ? info->Get(vtkDataObject::DATA_OBJECT()) : nullptr)
     {
-      f(data);
+      f(info, data);
     }
   }
 }
 } // namespace
 
-void PipelineAbort::Begin(vtkInformationVector* outputs)
+PipelineAbort::Guard::~Guard()
+{
+  if (this->Algorithm)
+  {
+    this->Algorithm->SetAbortExecute(0);
+  }
+}
+
+PipelineAbort::Guard PipelineAbort::Begin(vtkAlgorithm* algorithm, vtkInformationVector* outputs)
 {
   this->Aborted = false;
-  ForEachOutput(outputs, [](vtkDataObject* d) { d->GetInformation()->Remove(ABORTED()); });
+  ForEachOutput(outputs, [](vtkInformation*, vtkDataObject* d) {
+    d->GetInformation()->Remove(ABORTED());
+  });
+  return Guard(algorithm);
 }
 
 int PipelineAbort::Abort(vtkInformationVector* outputs)
 {
   this->Aborted = true;
-  ForEachOutput(outputs,
-    [](vtkDataObject* d)
+  ForEachOutput(outputs, [](vtkInformation* info, vtkDataObject* d) {
+    d->Initialize();
+    vtkImageData* image = vtkImageData::SafeDownCast(d);
+    if (image && info->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
     {
-      d->Initialize();
-      d->GetInformation()->Set(ABORTED(), 1);
-    });
+      image->SetExtent(info->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()));
+    }
+    d->GetInformation()->Set(ABORTED(), 1);
+  });
   return 1;
 }
 

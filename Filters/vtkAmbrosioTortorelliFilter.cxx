@@ -134,7 +134,7 @@ int vtkAmbrosioTortorelliFilter::RequestData(vtkInformation*,
   vtkInformationVector* outputVector)
 {
   Internals& cache = *this->Internal;
-  cache.Abort.Begin(outputVector);
+  const auto abortGuard = cache.Abort.Begin(this, outputVector);
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
   vtkPolyData* features = vtkPolyData::GetData(outputVector, 1);
@@ -280,6 +280,10 @@ int vtkAmbrosioTortorelliFilter::RequestData(vtkInformation*,
     return 0;
   }
   this->UpdateProgress(0.02);
+  if (this->GetAbortExecute())
+  {
+    return cache.Abort.Abort(outputVector); // the kept solve stays valid
+  }
 
   const int scaling = normalField ? FIELD_SCALING_NONE : this->FieldScaling;
   if (!cache.SameSolve(input, field, params, scaling))

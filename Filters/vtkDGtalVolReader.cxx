@@ -95,7 +95,7 @@ int vtkDGtalVolReader::RequestData(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   vtkImageData* output = vtkImageData::GetData(outputVector);
-  this->Abort->Begin(outputVector);
+  const auto abortGuard = this->Abort->Begin(this, outputVector);
   this->LastError.clear();
   dg::VolHeader header;
   std::vector<std::uint8_t> voxels;

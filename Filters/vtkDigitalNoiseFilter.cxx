@@ -50,7 +50,7 @@ int vtkDigitalNoiseFilter::RequestData(
     vtkErrorMacro("Missing input image.");
     return 0;
   }
-  this->Abort->Begin(outputVector);
+  const auto abortGuard = this->Abort->Begin(this, outputVector);
   if (dg::PipelineAbort::InputAborted(inputVector, this->GetNumberOfInputPorts()))
   {
     return this->Abort->Abort(outputVector);

@@ -57,7 +57,7 @@ int vtkDigitalSurfaceFilter::RequestData(
     vtkErrorMacro("Missing input image or output.");
     return 0;
   }
-  this->Abort->Begin(outputVector);
+  const auto abortGuard = this->Abort->Begin(this, outputVector);
   if (dg::PipelineAbort::InputAborted(inputVector, this->GetNumberOfInputPorts()))
   {
     return this->Abort->Abort(outputVector);

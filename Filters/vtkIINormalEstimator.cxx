@@ -154,7 +154,7 @@ int vtkIINormalEstimator::RequestData(
     vtkErrorMacro("Missing input surface.");
     return 0;
   }
-  this->Abort->Begin(outputVector);
+  const auto abortGuard = this->Abort->Begin(this, outputVector);
   if (dg::PipelineAbort::InputAborted(inputVector, this->GetNumberOfInputPorts()))
   {
     return this->Abort->Abort(outputVector);

@@ -1,8 +1,12 @@
 #include "dgTestShapes.h"
 
 #include <vtkCellArray.h>
+#include <vtkCellData.h>
 #include <vtkDataArray.h>
+#include <vtkDoubleArray.h>
+#include <vtkNew.h>
 #include <vtkPointData.h>
+#include <vtkPoints.h>
 
 namespace dgtest
 {
@@ -106,6 +110,43 @@ vtkSmartPointer<vtkPolyData> QuadGrid3x3(bool reverseCentre, double zWiggle)
   mesh->SetPoints(pts);
   mesh->SetPolys(polys);
   return mesh;
+}
+
+vtkSmartPointer<vtkPolyData> FlatSquare(int nx, int ny, double jump, bool triangles)
+{
+  auto pd = vtkSmartPointer<vtkPolyData>::New();
+  vtkNew<vtkPoints> pts;
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i)
+      pts->InsertNextPoint(i, j, 0);
+  vtkNew<vtkCellArray> polys;
+  vtkNew<vtkDoubleArray> step;
+  step->SetName("Step");
+  auto id = [nx](int i, int j) { return static_cast<vtkIdType>(j * (nx + 1) + i); };
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i)
+    {
+      const double value = i + 0.5 < jump ? 0.0 : 1.0;
+      if (triangles)
+      {
+        const vtkIdType t1[3] = { id(i, j), id(i + 1, j), id(i + 1, j + 1) };
+        const vtkIdType t2[3] = { id(i, j), id(i + 1, j + 1), id(i, j + 1) };
+        polys->InsertNextCell(3, t1);
+        polys->InsertNextCell(3, t2);
+        step->InsertNextValue(value);
+        step->InsertNextValue(value);
+      }
+      else
+      {
+        const vtkIdType q[4] = { id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1) };
+        polys->InsertNextCell(4, q);
+        step->InsertNextValue(value);
+      }
+    }
+  pd->SetPoints(pts);
+  pd->SetPolys(polys);
+  pd->GetCellData()->AddArray(step);
+  return pd;
 }
 
 } // namespace dgtest

@@ -39,6 +39,10 @@ vtkSmartPointer<vtkImageData> RandomVoxels(int nx, int ny, int nz, double p, uns
 /// except the centre quad when reverseCentre; no attribute arrays.
 vtkSmartPointer<vtkPolyData> QuadGrid3x3(bool reverseCentre, double zWiggle = 0.0);
 
+/// A flat nx x ny grid of unit quads (or two triangles per square) in z = 0
+/// with a cell array "Step": 0 left of x = jump, 1 right of it.
+vtkSmartPointer<vtkPolyData> FlatSquare(int nx, int ny, double jump, bool triangles);
+
 /// Records errors and warnings emitted by a VTK object.
 class ErrorObserver : public vtkCommand
 {
