@@ -17,6 +17,7 @@
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkSMPTools.h>
+#include <vtkSmartPointer.h>
 
 #include <algorithm>
 #include <array>
@@ -27,14 +28,18 @@
 vtkStandardNewMacro(vtkAmbrosioTortorelliFilter);
 
 // The last solve and what it was made from: an execution whose input and
-// solve parameters are the same only rebuilds the outputs from it.
+// solve parameters are the same only rebuilds the outputs from it. The input
+// is identified by the arrays the solve read (the field, the polygons) and
+// their MTimes, not by the vtkPolyData: ParaView hands each execution a new
+// shallow copy of the upstream output (its post-filter), with a new MTime.
 struct vtkAmbrosioTortorelliFilter::Internals
 {
   dg::PipelineAbort Abort;
   bool Valid = false;
-  vtkPolyData* Input = nullptr; // compared, never dereferenced
-  vtkMTimeType InputMTime = 0;
-  vtkDataArray* Field = nullptr; // compared, never dereferenced
+  vtkSmartPointer<vtkDataArray> Field;
+  vtkSmartPointer<vtkCellArray> Polys;
+  vtkMTimeType FieldMTime = 0, PolysMTime = 0;
+  vtkIdType PolyOffset = 0, NumberOfPoints = 0;
   dg::ATParameters Params;
   int FieldScaling = 0;
   double Scale = 1.0;
@@ -54,14 +59,27 @@ struct vtkAmbrosioTortorelliFilter::Internals
     const dg::ATParameters& params,
     vtkInformationVector* outputVector);
 
+  void Remember(vtkPolyData* input, vtkDataArray* field)
+  {
+    this->Field = field;
+    this->FieldMTime = field->GetMTime();
+    this->Polys = input->GetPolys();
+    this->PolysMTime = input->GetPolys()->GetMTime();
+    this->PolyOffset = input->GetNumberOfVerts() + input->GetNumberOfLines();
+    this->NumberOfPoints = input->GetNumberOfPoints();
+  }
+
   bool SameSolve(vtkPolyData* input,
     vtkDataArray* field,
     const dg::ATParameters& p,
     int scaling) const
   {
     const dg::ATParameters& q = this->Params;
-    return this->Valid && input == this->Input && input->GetMTime() == this->InputMTime &&
-           field == this->Field && scaling == this->FieldScaling && p.Alpha == q.Alpha &&
+    return this->Valid && field == this->Field && field->GetMTime() == this->FieldMTime &&
+           input->GetPolys() == this->Polys && input->GetPolys()->GetMTime() == this->PolysMTime &&
+           input->GetNumberOfVerts() + input->GetNumberOfLines() == this->PolyOffset &&
+           input->GetNumberOfPoints() == this->NumberOfPoints && scaling == this->FieldScaling &&
+           p.Alpha == q.Alpha &&
            p.Lambda == q.Lambda && p.EpsilonStart == q.EpsilonStart &&
            p.EpsilonEnd == q.EpsilonEnd && p.EpsilonRatio == q.EpsilonRatio &&
            p.MaximumIterations == q.MaximumIterations && p.Tolerance == q.Tolerance &&
@@ -295,9 +313,7 @@ int vtkAmbrosioTortorelliFilter::RequestData(vtkInformation*,
       return status;
     }
     cache.Valid = true;
-    cache.Input = input;
-    cache.InputMTime = input->GetMTime();
-    cache.Field = field;
+    cache.Remember(input, field);
     cache.Params = params;
     cache.FieldScaling = scaling;
     ++this->NumberOfSolves;

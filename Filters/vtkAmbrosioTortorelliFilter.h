@@ -70,8 +70,12 @@
  * MaximumIterations, Tolerance, LinearSolver, SolverTolerance, FieldScaling,
  * the field selection) solves again; FeatureThreshold and
  * NormalizeVectorField only rebuild the outputs (GetNumberOfSolves() counts
- * the solves). The kept solution costs about 64 bytes per quad of a closed
- * digital surface (u, v and the edge list).
+ * the solves). The input counts as changed when its field array, its polygon
+ * array (either object or its MTime) or its number of points changes, so
+ * ParaView's shallow copies of an unchanged upstream output reuse the solve.
+ * The kept solution costs about 64 bytes per quad of a closed digital
+ * surface (u, v and the edge list) and holds a reference to those two input
+ * arrays.
  *
  * Progress is reported at every step of the solve; aborting (SetAbortExecute
  * from a progress observer) stops within one step and leaves empty outputs,

@@ -91,8 +91,15 @@ check("IINormalEstimator" in globals() and "AmbrosioTortorelli" in globals(),
 ii = IINormalEstimator(Input=surface, Source=reader)
 ii.Radius = 4
 at = AmbrosioTortorelli(Input=ii)
+# Created before II has run (as with one Apply for a whole pipeline): the
+# Field still names the array AT will use, not an empty entry.
+field = list(at.Field)
+check(field[-1] == "IINormals", "Field shows IINormals before the input has run (%s)" % field)
 at.Alpha = 0.05
 at.UpdatePipeline()
+at_object = at.GetClientSideObject()
+solves = at_object.GetNumberOfSolves()
+check(solves == 1, "one solve (%d)" % solves)
 at_surface = servermanager.Fetch(at, idx=0)
 at_lines = servermanager.Fetch(at, idx=1)
 from digitalgeometry import vtkIINormalEstimator, vtkAmbrosioTortorelliFilter  # noqa: E402
@@ -117,8 +124,16 @@ check(at_surface.GetPointData().GetArray("ATFeatureIndicator") is not None, "v o
 n_lines = at_lines.GetNumberOfLines()
 check(n_lines > 0 and n_lines == vat.GetOutput(1).GetNumberOfLines(),
       "feature edges on port 1: %d (C++ %d)" % (n_lines, vat.GetOutput(1).GetNumberOfLines()))
+# Moving the threshold slider rebuilds the outputs from the kept solve.
+at.FeatureThreshold = 0.3
+at.UpdatePipeline()
+thinner = servermanager.Fetch(at, idx=1).GetNumberOfLines()
+check(at_object.GetNumberOfSolves() == 1 and thinner < n_lines,
+      "Feature Threshold 0.3: %d lines, no new solve (%d solves)" % (thinner, at_object.GetNumberOfSolves()))
+at.FeatureThreshold = 0.5
 at.Lambda = 0.5
 at.UpdatePipeline()
+check(at_object.GetNumberOfSolves() == 2, "Lambda solves again (%d solves)" % at_object.GetNumberOfSolves())
 fewer = servermanager.Fetch(at, idx=1).GetNumberOfLines()
 check(fewer < n_lines, "a larger lambda re-executes and gives fewer features (%d < %d)" % (fewer, n_lines))
 # The exact solver through the plugin agrees with the default iterative one.
@@ -132,6 +147,15 @@ if exact_u is not None and ref_u is not None:
     check(0.0 < diff < 1e-6, "LDLt through the plugin agrees with the default CG (max diff %g)" % diff)
 else:
     check(False, "LDLt run gives ATNormals")
+
+# AT straight on Digital Surface: the trivial normals, chosen by name.
+at_trivial = AmbrosioTortorelli(Input=surface)
+at_trivial.Field = ["CELLS", "Normals"]
+at_trivial.UpdatePipeline()
+trivial_u = servermanager.Fetch(at_trivial, idx=0).GetCellData().GetArray("ATNormals")
+check(trivial_u is not None and trivial_u.GetNumberOfTuples() == n_plugin,
+      "AT on the trivial normals (Field = Normals)")
+Delete(at_trivial)
 
 # A filter whose input is removed reports an error, no crash.
 orphan = DigitalSurface(Input=reader)
@@ -170,6 +194,25 @@ n = img.GetNumberOfPoints()
 coloured = sum(1 for p in range(0, n, 3) if s.GetTuple(p)[2] > s.GetTuple(p)[0] + 40)
 check(os.path.exists(png) and coloured * 3 > 0.05 * n,
       "screenshot shows the object (%.1f%% of pixels)" % (300.0 * coloured / max(n, 1)))
+
+# The feature edges' default look: red, wide lines, visible over the surface.
+Hide(surface, view)
+at.Lambda = 0.01
+surface_display = Show(OutputPort(at, 0), view)
+surface_display.ColorArrayName = ['POINTS', '']
+surface_display.DiffuseColor = [1, 1, 1]
+features = Show(OutputPort(at, 1), view)
+check(list(features.DiffuseColor) == [1.0, 0.0, 0.0] and features.LineWidth > 1,
+      "feature edges shown red (%s), width %g" % (list(features.DiffuseColor), features.LineWidth))
+Render(view)
+png_features = os.path.join(TMP, "plugin_features.png")
+SaveScreenshot(png_features, view, ImageResolution=[400, 300])
+pr.SetFileName(png_features)
+pr.Modified()
+pr.Update()
+s = pr.GetOutput().GetPointData().GetScalars()
+red = sum(1 for p in range(0, n) if s.GetTuple(p)[0] > 150 and s.GetTuple(p)[1] < 80 and s.GetTuple(p)[2] < 80)
+check(red > 0.01 * n, "red feature lines visible over the surface (%.1f%% of pixels)" % (100.0 * red / n))
 
 print("%d passed, %d failed" % (len(checks) - len(failures), len(failures)))
 sys.stdout.flush()
