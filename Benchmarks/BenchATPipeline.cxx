@@ -1,0 +1,623 @@
+// Speed of the Ambrosio-Tortorelli stage on the real pipeline's input (issue
+// 16): a .vol volume -> vtkDigitalSurfaceFilter -> vtkIINormalEstimator
+// (r = 3) -> the AT core (ATComplex + ATSolver, built from the II output
+// exactly as vtkAmbrosioTortorelliFilter::RequestData does), default solver
+// (ConjugateGradientIC), the paper's parameters (the ATParameters defaults)
+// or, with --dgtal, DGtal's (at most 10 iterations per level, tolerance
+// 1e-4). Prints per volume the phases' times, the CG iterations per solve,
+// the bytes streamed per CG iteration (from the data structures), the floor
+// set by a STREAM triad measured in the same process, and memory. BenchAT
+// keeps the synthetic stand-in input and the solver comparison.
+//
+// Usage: BenchATPipeline [runs] [volumes...] [--dgtal] [--check]
+//   A volume is a name in the shared volgallery (fandisk-128) or a path;
+//   default fandisk-128, fandisk-256, octa-flower17k-512. --check also runs
+//   vtkAmbrosioTortorelliFilter on the same II output and compares its
+//   NumberOfIterations, u and v with the core's.
+#include "dgATOperators.h"
+#include "dgATSolver.h"
+#include "vtkAmbrosioTortorelliFilter.h"
+#include "vtkDGtalVolReader.h"
+#include "vtkDigitalSurfaceFilter.h"
+#include "vtkIINormalEstimator.h"
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkDataArrayRange.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkSMPTools.h>
+
+#include <malloc.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace
+{
+using Clock = std::chrono::steady_clock;
+double Seconds(Clock::time_point t0)
+{
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+} // namespace
+
+namespace
+{
+std::string FirstLine(const char* path)
+{
+  std::ifstream f(path);
+  std::string line;
+  std::getline(f, line);
+  return line;
+}
+
+std::string CpuModel()
+{
+  std::ifstream f("/proc/cpuinfo");
+  for (std::string line; std::getline(f, line);)
+  {
+    if (line.compare(0, 10, "model name") == 0)
+    {
+      const auto c = line.find(':');
+      return c == std::string::npos ? line : line.substr(c + 2);
+    }
+  }
+  return "unknown";
+}
+
+// A "Key:   123 kB" line of /proc/self/status, in MiB (-1 when absent).
+double StatusMiB(const char* key)
+{
+  std::ifstream f("/proc/self/status");
+  const std::string k = std::string(key) + ":";
+  for (std::string line; std::getline(f, line);)
+  {
+    if (line.compare(0, k.size(), k) == 0)
+    {
+      return std::atof(line.c_str() + k.size()) / 1024.0;
+    }
+  }
+  return -1;
+}
+
+// Resets VmHWM (the peak RSS) to the current RSS (Linux >= 4.0), so that the
+// peak of one phase can be read; getrusage's ru_maxrss cannot be reset.
+bool ResetPeakRss()
+{
+  std::ofstream f("/proc/self/clear_refs");
+  f << "5" << std::flush;
+  return f.good();
+}
+
+double MedianOf(std::vector<double> v)
+{
+  std::sort(v.begin(), v.end());
+  const std::size_t h = v.size() / 2;
+  return v.empty() ? 0.0 : v.size() % 2 ? v[h] : 0.5 * (v[h - 1] + v[h]);
+}
+
+// STREAM triad a[i] = b[i] + s c[i] on 3 arrays of n doubles, with
+// vtkSMPTools over the same backend and thread count as the core (and the
+// core's task size, 16 blocks of 2048 rows); bytes counted as STREAM does
+// (24 per element: 2 reads, 1 write; no write-allocate). Best of reps, GB/s.
+double TriadGBs(std::int64_t n, int reps, double* median)
+{
+  std::unique_ptr<double[]> a(new double[n]), b(new double[n]), c(new double[n]);
+  constexpr std::int64_t grain = 16 * 2048;
+  vtkSMPTools::For(0, n, grain, [&](std::int64_t i0, std::int64_t i1) {
+    for (std::int64_t i = i0; i < i1; ++i)
+    {
+      a[i] = 0.0;
+      b[i] = 1.0 + 1e-9 * i;
+      c[i] = 2.0;
+    }
+  });
+  const double s = 3.0;
+  std::vector<double> t;
+  for (int r = 0; r < reps; ++r)
+  {
+    const auto t0 = Clock::now();
+    vtkSMPTools::For(0, n, grain, [&](std::int64_t i0, std::int64_t i1) {
+      double* __restrict pa = a.get();
+      const double* __restrict pb = b.get();
+      const double* __restrict pc = c.get();
+      for (std::int64_t i = i0; i < i1; ++i)
+      {
+        pa[i] = pb[i] + s * pc[i];
+      }
+    });
+    t.push_back(Seconds(t0));
+  }
+  volatile double sink = a[n / 2];
+  (void)sink;
+  const double bytes = 24.0 * static_cast<double>(n);
+  *median = bytes / MedianOf(t) / 1e9;
+  return bytes / *std::min_element(t.begin(), t.end()) / 1e9;
+}
+
+// Strictly lower entries of ICSystem's IC(0) factor: the matrix's lower
+// triangle inside the fixed row blocks of ICSystem::Analyze. The block rule
+// (constants ICMinBlockRows 16384, ICMaxBlockRows 65536, ICTargetBlocks 8)
+// is copied from dgATSolver.cxx: keep the two in step.
+std::int64_t ICLowerEntries(const dg::ATSystemMatrix& m, std::int64_t* blocks)
+{
+  const std::int64_t n = m.cols();
+  const std::int64_t rows = std::clamp<std::int64_t>(n / 8, 16384, 65536);
+  const std::int64_t nBlocks = std::max<std::int64_t>(1, n / rows);
+  *blocks = nBlocks;
+  const int* outer = m.outerIndexPtr();
+  const int* inner = m.innerIndexPtr();
+  std::int64_t count = 0;
+  for (std::int64_t i = 0, blk = 0; i < n; ++i)
+  {
+    blk += i == (blk + 1) * n / nBlocks;
+    const std::int64_t lo = blk * n / nBlocks;
+    for (int k = outer[i]; k < outer[i + 1]; ++k)
+    {
+      count += inner[k] >= lo && inner[k] < i;
+    }
+  }
+  return count;
+}
+
+// Bytes streamed by one CG iteration of ICSystem (dgATSolver.cxx) on a
+// system of n rows, nnz stored non-zeros (both triangles), nL factor entries
+// below the diagonal and nc right-hand sides. One iteration is two passes
+// over memory: UpdateAndPrecondition (x += a p, r -= a q, then per IC block
+// the forward and backward sweeps z = (L D L^T)^-1 r) and NextDirection
+// (w = A z, p = z + b p, q = w + b q). Every array is counted once per pass
+// it is read in and once per pass it is written in (a floor: the backward
+// sweep's re-read of z and the gathers of neighbours' z are taken as cache
+// hits; writes are counted without write-allocate, as STREAM counts them):
+//   vectors  8 nc n (7 + 5): pass 1 reads x r p q, writes x r z; pass 2
+//            reads z p q, writes p q;
+//   matrix   12 nnz + 4 (n + 1): double values, int row indices, int column
+//            starts (stored full, column major = row major by symmetry);
+//   factor   16 nL + 8 (n + 1) + 4 n: float values and int columns of L and
+//            of its transposed copy U, int row starts of both, float D^-1.
+// B = 96 nc n + 12 nnz + 4 (n + 1) + 16 nL + 8 (n + 1) + 4 n.
+// Per solve, outside B: r = b - A x (matrix, x read, r read and written),
+// the first preconditioning (r read, z written, the factor), Interleave of x
+// and b and Deinterleave of x (6 nc n doubles); the first NextDirection takes
+// the place of the one the last iteration skips:
+// S = 12 nnz + 4 (n + 1) + 16 nL + 8 (n + 1) + 4 n + 8 nc n (3 + 2 + 6).
+struct SystemBytes
+{
+  std::int64_t N = 0, Nnz = 0, NL = 0, Blocks = 0;
+  int NC = 0;
+  double PerIteration = 0, PerSolveSetup = 0;
+  void Set(const dg::ATSystemMatrix& m, int nc)
+  {
+    this->N = m.cols();
+    this->Nnz = m.nonZeros();
+    this->NL = ICLowerEntries(m, &this->Blocks);
+    this->NC = nc;
+    const double n = static_cast<double>(this->N), nnz = static_cast<double>(this->Nnz),
+                 nl = static_cast<double>(this->NL);
+    const double matrix = 12 * nnz + 4 * (n + 1);
+    const double factor = 16 * nl + 8 * (n + 1) + 4 * n;
+    this->PerIteration = 96.0 * nc * n + matrix + factor;
+    this->PerSolveSetup = matrix + factor + 8.0 * nc * n * 11;
+  }
+};
+
+struct RealRun
+{
+  double Surface = 0, II = 0, Prep = 0, Complex = 0, Run = 0, AT = 0;
+  dg::ATStatistics Stats;
+  std::vector<std::int64_t> ItU, ItV; // CG iterations of each u and v solve
+  double RssBefore = 0, PeakDuring = 0; // MiB
+};
+
+struct VolumeResult
+{
+  std::string Name;
+  std::int64_t Faces = 0, Edges = 0, Vertices = 0;
+  std::vector<RealRun> Runs;
+  SystemBytes U, V;
+  double ProcessPeak = 0;
+  bool Deterministic = true;
+};
+
+void MinMax(const std::vector<std::int64_t>& v, std::int64_t& total, std::int64_t& lo,
+  std::int64_t& hi)
+{
+  total = 0;
+  lo = v.empty() ? 0 : v[0];
+  hi = lo;
+  for (auto x : v)
+  {
+    total += x;
+    lo = std::min(lo, x);
+    hi = std::max(hi, x);
+  }
+}
+
+std::string CGText(const std::vector<std::int64_t>& v)
+{
+  std::int64_t t, lo, hi;
+  MinMax(v, t, lo, hi);
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "%5lld/%-3zu=%6.1f [%lld..%lld]", static_cast<long long>(t),
+    v.size(), v.empty() ? 0.0 : static_cast<double>(t) / v.size(), static_cast<long long>(lo),
+    static_cast<long long>(hi));
+  return buf;
+}
+} // namespace
+
+int main(int argc, char* argv[])
+{
+  int runs = 3;
+  bool dgtal = false, check = false;
+  std::vector<std::string> volumes;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string a = argv[i];
+    if (a == "--dgtal")
+      dgtal = true;
+    else if (a == "--check")
+      check = true;
+    else if (i == 1 && !a.empty() && std::isdigit(static_cast<unsigned char>(a[0])))
+      runs = std::max(1, std::atoi(a.c_str()));
+    else
+      volumes.push_back(a);
+  }
+  if (volumes.empty())
+  {
+    volumes = { "fandisk-128", "fandisk-256", "octa-flower17k-512" };
+  }
+  if (!std::getenv("VTK_SMP_BACKEND_IN_USE"))
+  {
+    vtkSMPTools::SetBackend("STDThread");
+  }
+  dg::ATParameters params; // the paper's: alpha 0.1, lambda 0.01, eps 2 -> 0.25 by 2, <= 5
+  if (dgtal)
+  {
+    params.MaximumIterations = 10; // DGtal's at-u2-v0 settings
+    params.Tolerance = 1e-4;
+  }
+  // As vtkAmbrosioTortorelliFilter::RequestData: it normalises the outputs,
+  // not the core's u.
+  params.Normalize = false;
+
+  char host[256] = "?";
+  gethostname(host, sizeof host - 1);
+  const char* env = std::getenv("VTK_SMP_BACKEND_IN_USE");
+  std::printf("BenchATPipeline: %d runs each (medians), %s parameters: alpha %g, lambda %g, "
+              "eps %g -> %g by %g, <= %d iterations per level, tolerance %g, solver %s, "
+              "CG tolerance %g\n",
+    runs, dgtal ? "DGtal's" : "the paper's", params.Alpha, params.Lambda, params.EpsilonStart,
+    params.EpsilonEnd, params.EpsilonRatio, params.MaximumIterations, params.Tolerance,
+    dg::ATLinearSolverName(params.Solver), params.CGTolerance);
+  std::printf("machine: %s, nproc %ld, CPU %s\n", host, sysconf(_SC_NPROCESSORS_ONLN),
+    CpuModel().c_str());
+  std::printf("VTK_SMP_BACKEND_IN_USE=%s, vtkSMPTools backend %s, %d threads\n",
+    env ? env : "(unset)", vtkSMPTools::GetBackend(), vtkSMPTools::GetEstimatedNumberOfThreads());
+  {
+    const std::time_t now = std::time(nullptr);
+    char when[64];
+    std::strftime(when, sizeof when, "%Y-%m-%d %H:%M:%S %Z", std::localtime(&now));
+    std::printf("start %s, loadavg %s\n", when, FirstLine("/proc/loadavg").c_str());
+  }
+  std::printf("pipeline per run: vtkDigitalSurfaceFilter, vtkIINormalEstimator r = 3 (voxels), "
+              "then the AT core as vtkAmbrosioTortorelliFilter::RequestData builds it\n"
+              "(prep = field and polygon buffers, complex = ATComplex::Build, then "
+              "ATSolver::Run: assem/analys/factor/solve from ATStatistics).\n");
+  std::fflush(stdout);
+
+  std::vector<VolumeResult> results;
+  for (const std::string& volume : volumes)
+  {
+    const std::string path = volume.find('/') != std::string::npos ||
+        (volume.size() > 4 && volume.compare(volume.size() - 4, 4, ".vol") == 0)
+      ? volume
+      : std::string(DG_SHARED_DATA_DIR) + "/" + volume + ".vol";
+    if (!std::ifstream(path).good())
+    {
+      std::printf("\n%s: %s not found, skipped\n", volume.c_str(), path.c_str());
+      continue;
+    }
+    VolumeResult vr;
+    vr.Name = volume;
+    vtkNew<vtkDGtalVolReader> reader;
+    reader->SetFileName(path.c_str());
+    auto t0 = Clock::now();
+    reader->Update();
+    const double tRead = Seconds(t0);
+    vtkImageData* image = reader->GetOutput();
+    int dims[3];
+    image->GetDimensions(dims);
+    vtkSmartPointer<vtkPolyData> lastII;
+    Eigen::MatrixXd firstU;
+    Eigen::VectorXd firstV;
+    bool hwm = true;
+    std::printf("\n== %s (%dx%dx%d, read %.2f s)\n", volume.c_str(), dims[0], dims[1], dims[2],
+      tRead);
+    std::printf("  %3s %7s %7s | %6s %7s %6s %6s %6s %7s %7s | %5s %-34s %-34s | %8s %8s %7s\n",
+      "run", "surface", "II", "prep", "complex", "assem", "analys", "factor", "solve", "AT",
+      "iters", "CG u: total/solves=mean [min..max]", "CG v: same", "RSS MiB", "AT+ MiB", "B/surfel");
+    for (int r = 0; r < runs; ++r)
+    {
+      RealRun run;
+      vtkNew<vtkDigitalSurfaceFilter> surface;
+      surface->SetInputData(image);
+      t0 = Clock::now();
+      surface->Update();
+      run.Surface = Seconds(t0);
+      vtkNew<vtkIINormalEstimator> ii;
+      ii->SetInputConnection(surface->GetOutputPort());
+      ii->SetSourceData(image);
+      ii->SetRadius(3);
+      t0 = Clock::now();
+      ii->Update();
+      run.II = Seconds(t0);
+      vtkPolyData* input = ii->GetOutput();
+
+      // The AT core, as vtkAmbrosioTortorelliFilter::RequestData and
+      // Internals::Solve build it (the field: the active cell normals,
+      // "IINormals", unit, so no scaling; the filter's diagnostics of the
+      // complex - interior/boundary/coincident edges - are left out).
+      // Free heap pages go back to the system first: else the RSS before AT
+      // would include what the previous run freed, and AT reuse it unseen.
+      malloc_trim(0);
+      run.RssBefore = StatusMiB("VmRSS");
+      hwm = hwm && ResetPeakRss();
+      t0 = Clock::now();
+      vtkCellArray* polys = input->GetPolys();
+      const vtkIdType nFaces = polys->GetNumberOfCells();
+      const vtkIdType polyOffset = input->GetNumberOfVerts() + input->GetNumberOfLines();
+      vtkDataArray* field = input->GetCellData()->GetNormals();
+      const int nc = field->GetNumberOfComponents();
+      Eigen::MatrixXd g(nFaces, nc);
+      {
+        const auto tuples = vtk::DataArrayTupleRange(field);
+        vtkSMPTools::For(0, nFaces, [&](vtkIdType b, vtkIdType e) {
+          for (vtkIdType f = b; f < e; ++f)
+          {
+            const auto t = tuples[polyOffset + f];
+            for (int c = 0; c < nc; ++c)
+            {
+              g(f, c) = static_cast<double>(t[c]);
+            }
+          }
+        });
+      }
+      std::vector<std::int64_t> offsets(nFaces + 1),
+        connectivity(polys->GetNumberOfConnectivityIds());
+      {
+        const auto off = vtk::DataArrayValueRange<1>(polys->GetOffsetsArray());
+        const auto conn = vtk::DataArrayValueRange<1>(polys->GetConnectivityArray());
+        vtkSMPTools::For(0, nFaces + 1, [&](vtkIdType b, vtkIdType e) {
+          for (vtkIdType i = b; i < e; ++i)
+          {
+            offsets[i] = static_cast<std::int64_t>(off[i]);
+          }
+        });
+        vtkSMPTools::For(0, static_cast<vtkIdType>(connectivity.size()),
+          [&](vtkIdType b, vtkIdType e) {
+            for (vtkIdType i = b; i < e; ++i)
+            {
+              connectivity[i] = static_cast<std::int64_t>(conn[i]);
+            }
+          });
+      }
+      run.Prep = Seconds(t0);
+      t0 = Clock::now();
+      dg::ATComplex complex;
+      std::string error;
+      if (!complex.Build(input->GetNumberOfPoints(), offsets, connectivity, &error))
+      {
+        std::printf("cannot build the complex: %s\n", error.c_str());
+        return 1;
+      }
+      offsets = std::vector<std::int64_t>();
+      connectivity = std::vector<std::int64_t>();
+      run.Complex = Seconds(t0);
+      dg::ATSolver solver(complex, params);
+      // Run calls the progress callback after every u-step + v-step pair:
+      // the counters' differences are the CG iterations of that u solve and
+      // of that v solve (the core is not changed for this).
+      std::int64_t seenU = 0, seenV = 0;
+      t0 = Clock::now();
+      const bool ok = solver.Run(g, [&](double) {
+        const dg::ATStatistics& st = solver.Statistics();
+        const std::int64_t u = st.CGIterationsU, v = st.CGIterations - st.CGIterationsU;
+        run.ItU.push_back(u - seenU);
+        run.ItV.push_back(v - seenV);
+        seenU = u;
+        seenV = v;
+        return true;
+      });
+      run.Run = Seconds(t0);
+      run.AT = run.Prep + run.Complex + run.Run;
+      {
+        rusage ru;
+        getrusage(RUSAGE_SELF, &ru);
+        run.PeakDuring = hwm ? StatusMiB("VmHWM") : ru.ru_maxrss / 1024.0;
+      }
+      if (!ok)
+      {
+        std::printf("ATSolver::Run failed: %s\n", solver.Error().c_str());
+        return 1;
+      }
+      run.Stats = solver.Statistics();
+      if (r == 0)
+      {
+        vr.Faces = complex.NumberOfFaces();
+        vr.Edges = complex.NumberOfEdges();
+        vr.Vertices = complex.NumberOfVertices();
+        vr.U.Set(solver.UMatrix(), nc);
+        vr.V.Set(solver.VMatrix(), 1);
+        firstU = solver.U();
+        firstV = solver.V();
+      }
+      else
+      {
+        vr.Deterministic = vr.Deterministic && solver.U() == firstU && solver.V() == firstV &&
+          run.ItU == vr.Runs[0].ItU && run.ItV == vr.Runs[0].ItV;
+      }
+      lastII = input;
+      const auto& st = run.Stats;
+      const double extra = run.PeakDuring - run.RssBefore;
+      std::printf("  %3d %7.3f %7.3f | %6.3f %7.3f %6.3f %6.3f %6.3f %7.3f %7.3f | %5d %-34s "
+                  "%-34s | %8.0f %8.1f %7.0f%s\n",
+        r + 1, run.Surface, run.II, run.Prep, run.Complex, st.Assembly, st.Analysis,
+        st.Factorization, st.Solve, run.AT, st.Iterations, CGText(run.ItU).c_str(),
+        CGText(run.ItV).c_str(), run.RssBefore, extra,
+        extra * 1048576.0 / static_cast<double>(vr.Faces), st.FailedSolves ? " FAILED SOLVES" : "");
+      std::fflush(stdout);
+      vr.Runs.push_back(std::move(run));
+    }
+    auto med = [&](double RealRun::*m) {
+      std::vector<double> v;
+      for (const auto& x : vr.Runs)
+        v.push_back(x.*m);
+      return MedianOf(v);
+    };
+    auto medS = [&](double dg::ATStatistics::*m) {
+      std::vector<double> v;
+      for (const auto& x : vr.Runs)
+        v.push_back(x.Stats.*m);
+      return MedianOf(v);
+    };
+    const double medExtra = [&] {
+      std::vector<double> v;
+      for (const auto& x : vr.Runs)
+        v.push_back(x.PeakDuring - x.RssBefore);
+      return MedianOf(v);
+    }();
+    const RealRun& r0 = vr.Runs[0];
+    std::printf("  %3s %7.3f %7.3f | %6.3f %7.3f %6.3f %6.3f %6.3f %7.3f %7.3f | %5d %-34s "
+                "%-34s | %8.0f %8.1f %7.0f\n",
+      "med", med(&RealRun::Surface), med(&RealRun::II), med(&RealRun::Prep),
+      med(&RealRun::Complex), medS(&dg::ATStatistics::Assembly),
+      medS(&dg::ATStatistics::Analysis), medS(&dg::ATStatistics::Factorization),
+      medS(&dg::ATStatistics::Solve), med(&RealRun::AT), r0.Stats.Iterations,
+      CGText(r0.ItU).c_str(), CGText(r0.ItV).c_str(), med(&RealRun::RssBefore), medExtra,
+      medExtra * 1048576.0 / static_cast<double>(vr.Faces));
+    rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    vr.ProcessPeak = ru.ru_maxrss / 1024.0;
+    std::printf("  %lld surfels (faces), %lld edges, %lld vertices; %d levels; runs bitwise "
+                "identical (u, v, CG counts): %s\n",
+      static_cast<long long>(vr.Faces), static_cast<long long>(vr.Edges),
+      static_cast<long long>(vr.Vertices), r0.Stats.Levels, vr.Deterministic ? "yes" : "NO");
+    std::printf("  peak memory (getrusage ru_maxrss, whole process so far) %.0f MiB; AT+ = AT's "
+                "peak (%s) - RSS before AT, per surfel in B/surfel\n",
+      vr.ProcessPeak, hwm ? "VmHWM reset before AT" : "ru_maxrss: VmHWM reset unavailable");
+    for (const SystemBytes* sb : { &vr.U, &vr.V })
+    {
+      std::printf("  %s-system: n %lld, nnz %lld (%.2f/row), IC factor %lld lower entries in %lld "
+                  "blocks, nc %d: %.2f MB per CG iteration (%.0f B/row), %.2f MB setup per solve\n",
+        sb == &vr.U ? "u" : "v", static_cast<long long>(sb->N), static_cast<long long>(sb->Nnz),
+        static_cast<double>(sb->Nnz) / sb->N, static_cast<long long>(sb->NL),
+        static_cast<long long>(sb->Blocks), sb->NC, sb->PerIteration / 1e6,
+        sb->PerIteration / sb->N, sb->PerSolveSetup / 1e6);
+    }
+    std::fflush(stdout);
+
+    if (check)
+    {
+      // The filter on the same II output: same iterations, same u and v.
+      vtkNew<vtkAmbrosioTortorelliFilter> at;
+      at->SetInputData(lastII);
+      at->NormalizeVectorFieldOff(); // its "ATNormals" are then u itself
+      at->SetMaximumIterations(params.MaximumIterations);
+      at->SetTolerance(params.Tolerance);
+      at->Update();
+      vtkDataArray* au = at->GetOutput()->GetCellData()->GetArray("ATNormals");
+      vtkDataArray* av = at->GetOutput()->GetPointData()->GetArray("ATFeatureIndicator");
+      double du = 0, dv = 0;
+      std::int64_t differ = 0;
+      const std::int64_t off = lastII->GetNumberOfVerts() + lastII->GetNumberOfLines();
+      for (std::int64_t f = 0; au && f < firstU.rows(); ++f)
+        for (int c = 0; c < firstU.cols(); ++c)
+        {
+          const double a = au->GetComponent(off + f, c);
+          du = std::max(du, std::abs(a - firstU(f, c)));
+          differ += a != firstU(f, c);
+        }
+      for (std::int64_t i = 0; av && i < firstV.size(); ++i)
+      {
+        const double a = av->GetComponent(i, 0);
+        dv = std::max(dv, std::abs(a - firstV[i]));
+        differ += a != firstV[i];
+      }
+      std::printf("  check against vtkAmbrosioTortorelliFilter: NumberOfIterations %d (core %d), "
+                  "max|du| %.3g, max|dv| %.3g, %lld values not bitwise equal: %s\n",
+        at->GetNumberOfIterations(), r0.Stats.Iterations, du, dv, static_cast<long long>(differ),
+        au && av && at->GetNumberOfIterations() == r0.Stats.Iterations && du <= 1e-12 &&
+            dv <= 1e-12
+          ? "OK"
+          : "MISMATCH");
+      std::fflush(stdout);
+    }
+    results.push_back(std::move(vr));
+  }
+
+  // The triad last: its 768 MB would otherwise be the process's peak RSS.
+  const std::int64_t triadN = std::int64_t(1) << 25; // 3 x 256 MiB, 24x a 32 MiB L3
+  double triadMedian = 0;
+  const double triad = TriadGBs(triadN, 10, &triadMedian);
+  std::printf("\nSTREAM triad a = b + s c, 3 x %.0f MiB, %d threads, best of 10: %.2f GB/s "
+              "(median %.2f GB/s)\n",
+    triadN * 8.0 / 1048576.0, vtkSMPTools::GetEstimatedNumberOfThreads(), triad, triadMedian);
+  std::printf("floor = CG iterations x bytes per iteration / triad (best); bytes per iteration "
+              "B = 96 nc n + 12 nnz + 4 (n+1) + 16 nL + 8 (n+1) + 4 n\n"
+              "  (CG vectors: 12 transfers of n x nc doubles in the two passes; matrix values, "
+              "row indices, column starts; IC factor L and U in float + int,\n"
+              "  row starts, float D^-1); 'floor+setup' adds per solve S = 12 nnz + 4 (n+1) + "
+              "16 nL + 8 (n+1) + 4 n + 88 nc n (residual, first preconditioning, (de)interleaving).\n");
+  std::printf("  %-20s %8s %8s %8s %9s %9s %8s %7s %9s %7s %8s %8s\n", "volume", "solve s",
+    "CGits u", "CGits v", "MB/it u", "MB/it v", "floor s", "ratio", "floor+set", "ratio",
+    "factor s", "GB/s eff");
+  for (const VolumeResult& vr : results)
+  {
+    const RealRun& r0 = vr.Runs[0];
+    std::int64_t tu, tv, lo, hi;
+    MinMax(r0.ItU, tu, lo, hi);
+    MinMax(r0.ItV, tv, lo, hi);
+    std::vector<double> solve, factor;
+    for (const auto& x : vr.Runs)
+    {
+      solve.push_back(x.Stats.Solve);
+      factor.push_back(x.Stats.Factorization);
+    }
+    const double s = MedianOf(solve);
+    const double bytes = tu * vr.U.PerIteration + tv * vr.V.PerIteration;
+    const double bytesSetup = bytes + r0.ItU.size() * vr.U.PerSolveSetup +
+      r0.ItV.size() * vr.V.PerSolveSetup;
+    const double floor = bytes / (triad * 1e9), floorSetup = bytesSetup / (triad * 1e9);
+    std::printf("  %-20s %8.3f %8lld %8lld %9.2f %9.2f %8.3f %7.2f %9.3f %7.2f %8.3f %8.2f\n",
+      vr.Name.c_str(), s, static_cast<long long>(tu), static_cast<long long>(tv),
+      vr.U.PerIteration / 1e6, vr.V.PerIteration / 1e6, floor, s / floor, floorSetup,
+      s / floorSetup, MedianOf(factor), bytesSetup / s / 1e9);
+    std::printf("  %-20s u share of the floor %.0f %%, v %.0f %%\n", "",
+      100 * tu * vr.U.PerIteration / bytes, 100 * tv * vr.V.PerIteration / bytes);
+  }
+  {
+    rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    const std::time_t now = std::time(nullptr);
+    char when[64];
+    std::strftime(when, sizeof when, "%Y-%m-%d %H:%M:%S %Z", std::localtime(&now));
+    std::printf("end %s, loadavg %s, peak memory with the triad %.0f MiB\n", when,
+      FirstLine("/proc/loadavg").c_str(), ru.ru_maxrss / 1024.0);
+  }
+  return 0;
+}
