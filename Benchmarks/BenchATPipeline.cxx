@@ -9,7 +9,11 @@
 // set by a STREAM triad measured in the same process, and memory. BenchAT
 // keeps the synthetic stand-in input and the solver comparison.
 //
-// Usage: BenchATPipeline [runs] [volumes...] [--dgtal] [--check]
+// Usage: BenchATPipeline [runs] [volumes...] [--dgtal] [--check] [--exact]
+//                        [--tolerance T]
+//   --exact compares the first run with SimplicialLDLT on the same schedule
+//   (the accuracy budget); --tolerance sets the CG tolerance (default: the
+//   ATParameters default).
 //   A volume is a name in the shared volgallery (fandisk-128) or a path;
 //   default fandisk-128, fandisk-256, octa-flower17k-512. --check also runs
 //   vtkAmbrosioTortorelliFilter on the same II output and compares its
@@ -263,7 +267,8 @@ std::string CGText(const std::vector<std::int64_t>& v)
 int main(int argc, char* argv[])
 {
   int runs = 3;
-  bool dgtal = false, check = false;
+  bool dgtal = false, check = false, exact = false;
+  double cgTolerance = 0;
   std::vector<std::string> volumes;
   for (int i = 1; i < argc; ++i)
   {
@@ -272,6 +277,10 @@ int main(int argc, char* argv[])
       dgtal = true;
     else if (a == "--check")
       check = true;
+    else if (a == "--exact")
+      exact = true;
+    else if (a == "--tolerance" && i + 1 < argc)
+      cgTolerance = std::atof(argv[++i]);
     else if (i == 1 && !a.empty() && std::isdigit(static_cast<unsigned char>(a[0])))
       runs = std::max(1, std::atoi(a.c_str()));
     else
@@ -290,6 +299,10 @@ int main(int argc, char* argv[])
   {
     params.MaximumIterations = 10; // DGtal's at-u2-v0 settings
     params.Tolerance = 1e-4;
+  }
+  if (cgTolerance > 0)
+  {
+    params.CGTolerance = cgTolerance;
   }
   // As vtkAmbrosioTortorelliFilter::RequestData: it normalises the outputs,
   // not the core's u.
@@ -465,6 +478,43 @@ int main(int argc, char* argv[])
         vr.V.Set(solver.VMatrix(), 1);
         firstU = solver.U();
         firstV = solver.V();
+        if (exact)
+        {
+          // The accuracy budget against the exact solver, same schedule.
+          dg::ATParameters ep = params;
+          ep.Solver = dg::ATLinearSolver::SimplicialLDLT;
+          dg::ATSolver ex(complex, ep);
+          const auto te = Clock::now();
+          ex.Run(g);
+          const double exactSeconds = Seconds(te);
+          std::vector<double> angles(firstU.rows());
+          for (Eigen::Index f = 0; f < firstU.rows(); ++f)
+          {
+            const Eigen::VectorXd a = firstU.row(f).normalized(), b = ex.U().row(f).normalized();
+            angles[f] = std::acos(std::clamp(a.dot(b), -1.0, 1.0)) * 180.0 / M_PI;
+          }
+          std::sort(angles.begin(), angles.end());
+          const double dv = (firstV - ex.V()).lpNorm<Eigen::Infinity>();
+          std::int64_t edgesExact = 0, edgesDiffer = 0;
+          for (std::int64_t e = 0; e < complex.NumberOfEdges(); ++e)
+          {
+            const int a = complex.EdgeVertices[2 * e], b = complex.EdgeVertices[2 * e + 1];
+            const bool fe = firstV[a] < 0.5 && firstV[b] < 0.5;
+            const bool ee = ex.V()[a] < 0.5 && ex.V()[b] < 0.5;
+            edgesExact += ee;
+            edgesDiffer += fe != ee;
+          }
+          std::printf("  against SimplicialLDLT (%.1f s): normals p99.9 %.3g deg (max %.3g), max "
+                      "|dv| %.3g, feature edges %lld exact, %lld differ (%.3f %%); budget 0.05 "
+                      "deg, 1e-3, 0.5 %%: %s\n",
+            exactSeconds, angles[static_cast<std::size_t>(0.999 * (angles.size() - 1))],
+            angles.back(), dv, static_cast<long long>(edgesExact),
+            static_cast<long long>(edgesDiffer), 100.0 * edgesDiffer / std::max<std::int64_t>(1, edgesExact),
+            angles[static_cast<std::size_t>(0.999 * (angles.size() - 1))] < 0.05 && dv < 1e-3 &&
+                edgesDiffer <= 0.005 * edgesExact
+              ? "within"
+              : "OUTSIDE");
+        }
       }
       else
       {
