@@ -14,7 +14,10 @@
 //   --exact compares the first run with SimplicialLDLT on the same schedule
 //   (the accuracy budget); --tolerance sets the CG tolerance (default: the
 //   ATParameters default).
-//   A volume is a name in the shared volgallery (fandisk-128) or a path;
+//   A volume is a name in the shared volgallery (fandisk-128) or a path,
+//   with "x2" appended for the volume upsampled 2x (octa-flower17k-512x2:
+//   1024^3); with 3 volumes or more, the growth exponent with the surface is
+//   fitted;
 //   default fandisk-128, fandisk-256, octa-flower17k-512. --check also runs
 //   vtkAmbrosioTortorelliFilter on the same II output and compares its
 //   NumberOfIterations, u and v with the core's.
@@ -220,6 +223,44 @@ struct SystemBytes
   }
 };
 
+vtkSmartPointer<vtkImageData> Upsampled(vtkImageData* in, int f)
+{
+  int d[3];
+  in->GetDimensions(d);
+  auto out = vtkSmartPointer<vtkImageData>::New();
+  out->SetDimensions(d[0] * f, d[1] * f, d[2] * f);
+  out->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
+  const auto* src = static_cast<const unsigned char*>(in->GetScalarPointer());
+  auto* dst = static_cast<unsigned char*>(out->GetScalarPointer());
+  const std::int64_t nx = d[0] * f, ny = d[1] * f, nz = d[2] * f;
+  vtkSMPTools::For(0, nz, [&](std::int64_t k0, std::int64_t k1) {
+    for (std::int64_t k = k0; k < k1; ++k)
+      for (std::int64_t j = 0; j < ny; ++j)
+        for (std::int64_t i = 0; i < nx; ++i)
+        {
+          dst[(k * ny + j) * nx + i] =
+            src[((k / f) * d[1] + j / f) * static_cast<std::int64_t>(d[0]) + i / f];
+        }
+  });
+  return out;
+}
+
+// Least-squares slope of log(y) against log(x): the growth exponent.
+double Exponent(const std::vector<double>& x, const std::vector<double>& y)
+{
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  const double n = static_cast<double>(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i)
+  {
+    const double lx = std::log(x[i]), ly = std::log(y[i]);
+    sx += lx;
+    sy += ly;
+    sxx += lx * lx;
+    sxy += lx * ly;
+  }
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
 struct RealRun
 {
   double Surface = 0, II = 0, Prep = 0, Complex = 0, Run = 0, AT = 0;
@@ -336,10 +377,19 @@ int main(int argc, char* argv[])
   std::vector<VolumeResult> results;
   for (const std::string& volume : volumes)
   {
-    const std::string path = volume.find('/') != std::string::npos ||
-        (volume.size() > 4 && volume.compare(volume.size() - 4, 4, ".vol") == 0)
-      ? volume
-      : std::string(DG_SHARED_DATA_DIR) + "/" + volume + ".vol";
+    // "NAMEx2": the volume upsampled 2x in each direction (each voxel becomes
+    // 2 x 2 x 2), for surfaces larger than the gallery's (octa-flower 1024^3).
+    int upsample = 1;
+    std::string base = volume;
+    if (base.size() > 2 && base.compare(base.size() - 2, 2, "x2") == 0)
+    {
+      upsample = 2;
+      base = base.substr(0, base.size() - 2);
+    }
+    const std::string path = base.find('/') != std::string::npos ||
+        (base.size() > 4 && base.compare(base.size() - 4, 4, ".vol") == 0)
+      ? base
+      : std::string(DG_SHARED_DATA_DIR) + "/" + base + ".vol";
     if (!std::ifstream(path).good())
     {
       std::printf("\n%s: %s not found, skipped\n", volume.c_str(), path.c_str());
@@ -352,7 +402,11 @@ int main(int argc, char* argv[])
     auto t0 = Clock::now();
     reader->Update();
     const double tRead = Seconds(t0);
-    vtkImageData* image = reader->GetOutput();
+    vtkSmartPointer<vtkImageData> image = reader->GetOutput();
+    if (upsample > 1)
+    {
+      image = Upsampled(reader->GetOutput(), upsample);
+    }
     int dims[3];
     image->GetDimensions(dims);
     vtkSmartPointer<vtkPolyData> lastII;
@@ -659,6 +713,31 @@ int main(int argc, char* argv[])
       s / floorSetup, MedianOf(factor), bytesSetup / s / 1e9);
     std::printf("  %-20s u share of the floor %.0f %%, v %.0f %%\n", "",
       100 * tu * vr.U.PerIteration / bytes, 100 * tv * vr.V.PerIteration / bytes);
+  }
+  if (results.size() >= 3)
+  {
+    // Growth with the surface: AT time (and solve time) against surfels.
+    std::vector<double> faces, at, solve, cg;
+    for (const VolumeResult& vr : results)
+    {
+      std::vector<double> a, sv;
+      for (const auto& x : vr.Runs)
+      {
+        a.push_back(x.AT);
+        sv.push_back(x.Stats.Solve);
+      }
+      faces.push_back(static_cast<double>(vr.Faces));
+      at.push_back(MedianOf(a));
+      solve.push_back(MedianOf(sv));
+      cg.push_back(static_cast<double>(vr.Runs[0].Stats.CGIterations));
+      std::printf("  series %-22s %9lld surfels  AT %8.3f s  solves %8.3f s  %7.2f us/surfel  CG "
+                  "iterations %lld\n",
+        vr.Name.c_str(), static_cast<long long>(vr.Faces), at.back(), solve.back(),
+        1e6 * at.back() / faces.back(), static_cast<long long>(vr.Runs[0].Stats.CGIterations));
+    }
+    std::printf("  fitted exponent (log-log least squares) of AT time vs surfels: %.3f; solves: "
+                "%.3f; CG iterations: %.3f\n",
+      Exponent(faces, at), Exponent(faces, solve), Exponent(faces, cg));
   }
   {
     rusage ru;
