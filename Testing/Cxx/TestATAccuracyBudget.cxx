@@ -5,7 +5,6 @@
 // the same feature edges up to 0.5 % of them. Any faster default must keep
 // this test green.
 #include "dgGroundTruth.h"
-#include "dgNoise.h"
 #include "dgTestShapes.h"
 #include "vtkAmbrosioTortorelliFilter.h"
 #include "vtkDigitalSurfaceFilter.h"
@@ -27,30 +26,6 @@
 namespace
 {
 using V3 = Eigen::Vector3d;
-
-vtkSmartPointer<vtkImageData> NoisyShape(const dgtest::ImplicitShape& shape, int n, double k)
-{
-  auto image = dgtest::Digitize(shape, n);
-  auto* scalars = vtkUnsignedCharArray::SafeDownCast(image->GetPointData()->GetScalars());
-  std::vector<std::uint8_t> m(scalars->GetPointer(0), scalars->GetPointer(0) + scalars->GetNumberOfValues());
-  const int dims[3] = { n, n, n };
-  dg::ApplyNoise(m, dims, k, 11);
-  std::copy(m.begin(), m.end(), scalars->GetPointer(0));
-  return image;
-}
-
-std::set<std::pair<vtkIdType, vtkIdType>> EdgeSet(vtkPolyData* features)
-{
-  std::set<std::pair<vtkIdType, vtkIdType>> e;
-  for (vtkIdType c = 0; c < features->GetNumberOfCells(); ++c)
-  {
-    vtkIdType n;
-    const vtkIdType* p;
-    features->GetCellPoints(c, n, p);
-    e.emplace(std::min(p[0], p[1]), std::max(p[0], p[1]));
-  }
-  return e;
-}
 
 void CheckBudget(const char* name, vtkImageData* image)
 {
@@ -89,7 +64,7 @@ void CheckBudget(const char* name, vtkImageData* image)
   {
     dv = std::max(dv, std::abs(vf->GetTuple1(p) - ve->GetTuple1(p)));
   }
-  const auto ef = EdgeSet(fast->GetOutput(1)), ee = EdgeSet(exact->GetOutput(1));
+  const auto ef = dgtest::EdgePairs(fast->GetOutput(1)), ee = dgtest::EdgePairs(exact->GetOutput(1));
   std::vector<std::pair<vtkIdType, vtkIdType>> differ;
   std::set_symmetric_difference(
     ef.begin(), ef.end(), ee.begin(), ee.end(), std::back_inserter(differ));
@@ -106,11 +81,11 @@ void CheckBudget(const char* name, vtkImageData* image)
 TEST(ATAccuracyBudget, NoisyRotatedCube)
 {
   auto cube = dgtest::MakeRotatedCube(V3(31.7, 32.2, 31.9), 20, 20, 30, 10);
-  CheckBudget("rotated cube 64^3 k=0.3", NoisyShape(*cube, 64, 0.3));
+  CheckBudget("rotated cube 64^3 k=0.3", dgtest::NoisyDigitize(*cube, 64, 0.3, 11));
 }
 
 TEST(ATAccuracyBudget, NoisyCubeSphere)
 {
   auto shape = dgtest::MakeCubeSphere(V3(31.7, 32.2, 31.9), 20, 25);
-  CheckBudget("cube-sphere 64^3 k=0.3", NoisyShape(*shape, 64, 0.3));
+  CheckBudget("cube-sphere 64^3 k=0.3", dgtest::NoisyDigitize(*shape, 64, 0.3, 11));
 }

@@ -5,7 +5,6 @@
 // (samples every 0.25 voxel) within 1.5 voxels of a detected edge. Also a
 // scalar step, triangle meshes, outputs, progress/abort and bad input.
 #include "dgGroundTruth.h"
-#include "dgNoise.h"
 #include "dgTestShapes.h"
 #include "vtkAmbrosioTortorelliFilter.h"
 #include "vtkDigitalSurfaceFilter.h"
@@ -34,36 +33,6 @@
 namespace
 {
 using V3 = Eigen::Vector3d;
-
-std::vector<std::uint8_t> MaskOf(vtkImageData* image)
-{
-  vtkDataArray* s = image->GetPointData()->GetScalars();
-  std::vector<std::uint8_t> m(s->GetNumberOfTuples());
-  for (vtkIdType i = 0; i < s->GetNumberOfTuples(); ++i)
-  {
-    m[i] = s->GetTuple1(i) != 0;
-  }
-  return m;
-}
-
-vtkSmartPointer<vtkImageData> ImageOf(const std::vector<std::uint8_t>& m, const int dims[3])
-{
-  auto image = vtkSmartPointer<vtkImageData>::New();
-  image->SetDimensions(dims[0], dims[1], dims[2]);
-  image->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
-  std::copy(m.begin(),
-    m.end(),
-    vtkUnsignedCharArray::SafeDownCast(image->GetPointData()->GetScalars())->GetPointer(0));
-  return image;
-}
-
-vtkSmartPointer<vtkImageData> Noisy(const dgtest::ImplicitShape& shape, int n, double k)
-{
-  const int dims[3] = { n, n, n };
-  auto m = MaskOf(dgtest::Digitize(shape, n));
-  dg::ApplyNoise(m, dims, k, 7);
-  return ImageOf(m, dims);
-}
 
 struct ATResult
 {
@@ -199,7 +168,7 @@ TEST(ATFilter, RotatedCubeNoisy)
   // k = 0.3. II radius 6 and lambda 0.03 (a longer, cleaner discontinuity
   // set), alpha 0.05 (more smoothing of the noisy field): MATH.md section 6.
   auto cube = dgtest::MakeRotatedCube(V3(31.7, 32.2, 31.9), 20, 20, 30, 10);
-  auto res = RunAT(Noisy(*cube, 64, 0.3), 6.0, 0.05, 0.03);
+  auto res = RunAT(dgtest::NoisyDigitize(*cube, 64, 0.3, 7), 6.0, 0.05, 0.03);
   const Scores s = FeatureScores(res.Features, *cube);
   std::cout << "rotated cube 64^3 k=0.3, II r=6, alpha 0.05, lambda 0.03: " << s.Edges
             << " feature edges, precision " << s.Precision << ", recall " << s.Recall << std::endl;

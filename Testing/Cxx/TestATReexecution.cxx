@@ -26,20 +26,7 @@ namespace
 {
 using V3 = Eigen::Vector3d;
 
-// The feature edges as sorted point-id pairs, to compare two outputs.
-std::vector<std::pair<vtkIdType, vtkIdType>> Edges(vtkPolyData* features)
-{
-  std::vector<std::pair<vtkIdType, vtkIdType>> e;
-  for (vtkIdType c = 0; c < features->GetNumberOfCells(); ++c)
-  {
-    vtkIdType n;
-    const vtkIdType* p;
-    features->GetCellPoints(c, n, p);
-    e.emplace_back(std::min(p[0], p[1]), std::max(p[0], p[1]));
-  }
-  std::sort(e.begin(), e.end());
-  return e;
-}
+using dgtest::EdgePairs;
 
 double MaxDifference(vtkDataArray* a, vtkDataArray* b)
 {
@@ -67,14 +54,14 @@ TEST(ATReexecution, OnlySolveParametersAndInputSolveAgain)
   at->SetInputConnection(ii->GetOutputPort());
   at->Update();
   ASSERT_EQ(at->GetNumberOfSolves(), 1);
-  const auto edges05 = Edges(at->GetOutput(1));
+  const auto edges05 = EdgePairs(at->GetOutput(1));
   ASSERT_GT(edges05.size(), 10u);
 
   // Output parameters: the outputs change, the solve is reused.
   at->SetFeatureThreshold(0.2);
   at->Update();
   EXPECT_EQ(at->GetNumberOfSolves(), 1);
-  const auto edges02 = Edges(at->GetOutput(1));
+  const auto edges02 = EdgePairs(at->GetOutput(1));
   EXPECT_LT(edges02.size(), edges05.size());
   at->SetNormalizeVectorField(false);
   at->Update();
@@ -97,7 +84,7 @@ TEST(ATReexecution, OnlySolveParametersAndInputSolveAgain)
   fresh->SetFeatureThreshold(0.2);
   fresh->SetNormalizeVectorField(false);
   fresh->Update();
-  EXPECT_EQ(Edges(fresh->GetOutput(1)), edges02);
+  EXPECT_EQ(EdgePairs(fresh->GetOutput(1)), edges02);
   EXPECT_EQ(MaxDifference(fresh->GetOutput()->GetCellData()->GetArray("ATNormals"),
               at->GetOutput()->GetCellData()->GetArray("ATNormals")),
     0.0);
@@ -174,7 +161,7 @@ TEST(ATReexecution, OutputNamesFollowTheField)
   EXPECT_LT(at->GetFieldScale(), 2.2);
   // The regularised velocity is 2 n + drift with n the regularised normal:
   // the same features as AT on the normals themselves, up to a few edges.
-  const auto velocityEdges = Edges(at->GetOutput(1));
+  const auto velocityEdges = EdgePairs(at->GetOutput(1));
 
   at->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "MyNormals");
   at->Update();
@@ -183,7 +170,7 @@ TEST(ATReexecution, OutputNamesFollowTheField)
   EXPECT_STREQ(out->GetCellData()->GetNormals()->GetName(), "ATNormals");
   EXPECT_EQ(out->GetCellData()->GetArray("MyNormals_AT"), nullptr);
   EXPECT_EQ(at->GetFieldScale(), 1.0);
-  const auto normalEdges = Edges(at->GetOutput(1));
+  const auto normalEdges = EdgePairs(at->GetOutput(1));
   ASSERT_GT(normalEdges.size(), 10u);
   std::vector<std::pair<vtkIdType, vtkIdType>> common;
   std::set_intersection(velocityEdges.begin(), velocityEdges.end(), normalEdges.begin(),
@@ -214,7 +201,7 @@ TEST(ATReexecution, ScalarFieldsGiveTheSameFeaturesWhateverTheirUnit)
     at->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "Height");
     at->Update();
     EXPECT_EQ(obs->Errors + obs->Warnings, 0) << obs->Messages;
-    const auto edges = Edges(at->GetOutput(1));
+    const auto edges = EdgePairs(at->GetOutput(1));
     if (unit == 1.0)
     {
       reference = edges;
@@ -238,7 +225,7 @@ TEST(ATReexecution, ScalarFieldsGiveTheSameFeaturesWhateverTheirUnit)
       EXPECT_NE(obs->Messages.find(unit > 1 ? "nearly every edge" : "almost no features"),
         std::string::npos)
         << obs->Messages;
-      const auto unscaled = Edges(at->GetOutput(1));
+      const auto unscaled = EdgePairs(at->GetOutput(1));
       if (unit > 1)
       {
         EXPECT_GT(unscaled.size(), 3 * reference.size());

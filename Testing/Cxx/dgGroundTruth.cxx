@@ -1,5 +1,7 @@
 #include "dgGroundTruth.h"
 
+#include "dgNoise.h"
+
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
 #include <vtkDataSet.h>
@@ -471,6 +473,18 @@ vtkSmartPointer<vtkImageData> Digitize(const ImplicitShape& shape, int n)
       {
         s->SetValue(id++, shape.Inside(V3(i, j, k)) ? 1 : 0);
       }
+  return image;
+}
+
+vtkSmartPointer<vtkImageData> NoisyDigitize(
+  const ImplicitShape& shape, int n, double k, std::uint64_t seed)
+{
+  auto image = Digitize(shape, n);
+  auto* s = vtkUnsignedCharArray::SafeDownCast(image->GetPointData()->GetScalars());
+  std::vector<std::uint8_t> m(s->GetPointer(0), s->GetPointer(0) + s->GetNumberOfValues());
+  const int dims[3] = { n, n, n };
+  dg::ApplyNoise(m, dims, k, seed);
+  std::copy(m.begin(), m.end(), s->GetPointer(0));
   return image;
 }
 

@@ -91,6 +91,9 @@ std::unique_ptr<ImplicitShape> MakeWedge(const Eigen::Vector3d& center, double h
 
 /// Digitises a shape in an n^3 unsigned char image (1 inside, 0 outside).
 vtkSmartPointer<vtkImageData> Digitize(const ImplicitShape& shape, int n);
+/// The same with the paper's noise of level k (dg::ApplyNoise, given seed).
+vtkSmartPointer<vtkImageData> NoisyDigitize(
+  const ImplicitShape& shape, int n, double k, std::uint64_t seed);
 
 /// Centre of each surfel of a vtkDigitalSurfaceFilter output, in grid
 /// coordinates (inside voxel + half a voxel along the direction).

@@ -8,6 +8,8 @@
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 
+#include <algorithm>
+
 namespace dgtest
 {
 
@@ -147,6 +149,20 @@ vtkSmartPointer<vtkPolyData> FlatSquare(int nx, int ny, double jump, bool triang
   pd->SetPolys(polys);
   pd->GetCellData()->AddArray(step);
   return pd;
+}
+
+std::vector<std::pair<vtkIdType, vtkIdType>> EdgePairs(vtkPolyData* lines)
+{
+  std::vector<std::pair<vtkIdType, vtkIdType>> e;
+  for (vtkIdType c = 0; c < lines->GetNumberOfCells(); ++c)
+  {
+    vtkIdType n;
+    const vtkIdType* p;
+    lines->GetCellPoints(c, n, p);
+    e.emplace_back(std::min(p[0], p[1]), std::max(p[0], p[1]));
+  }
+  std::sort(e.begin(), e.end());
+  return e;
 }
 
 } // namespace dgtest

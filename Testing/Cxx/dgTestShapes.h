@@ -13,6 +13,8 @@
 #include <functional>
 #include <random>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace dgtest
 {
@@ -42,6 +44,10 @@ vtkSmartPointer<vtkPolyData> QuadGrid3x3(bool reverseCentre, double zWiggle = 0.
 /// A flat nx x ny grid of unit quads (or two triangles per square) in z = 0
 /// with a cell array "Step": 0 left of x = jump, 1 right of it.
 vtkSmartPointer<vtkPolyData> FlatSquare(int nx, int ny, double jump, bool triangles);
+
+/// The line cells of a feature-edge output as (smaller id, larger id) pairs,
+/// sorted: two outputs on the same points compare edge for edge.
+std::vector<std::pair<vtkIdType, vtkIdType>> EdgePairs(vtkPolyData* lines);
 
 /// Records errors and warnings emitted by a VTK object.
 class ErrorObserver : public vtkCommand
