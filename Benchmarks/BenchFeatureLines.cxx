@@ -1,0 +1,308 @@
+// Feature-line quality (issue 15's metrics, dgFeatureMetrics.h) of AT's plain
+// output and of vtkSharpFeaturesFilter after it, on ground-truth shapes, for
+// parameter studies. Prints one line per case and method.
+//
+// Usage: BenchFeatureLines [--sizes 64] [--shapes cube,cube2,octahedron,cubesphere]
+//          [--noise 0,0.3] [--seeds 1,2] [--radius R] [--alpha A] [--lambda L]
+//          [--islands N] [--depth D] [--min-region M] [--angle DEG]
+#include "dgFeatureMetrics.h"
+#include "dgGroundTruth.h"
+#include "vtkAmbrosioTortorelliFilter.h"
+#include "vtkDigitalSurfaceFilter.h"
+#include "vtkIINormalEstimator.h"
+#include "vtkSharpFeaturesFilter.h"
+
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPolyData.h>
+#include <vtkSMPTools.h>
+#include <vtkXMLPolyDataWriter.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace
+{
+using V3 = Eigen::Vector3d;
+
+std::vector<std::string> Split(const std::string& s)
+{
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ','))
+    if (!item.empty())
+      out.push_back(item);
+  return out;
+}
+
+std::unique_ptr<dgtest::ImplicitShape> MakeShape(const std::string& name, int n)
+{
+  const V3 c = V3::Constant(0.5 * (n - 1)) + V3(0.13, 0.07, 0.11);
+  if (name == "cube")
+    return dgtest::MakeRotatedCube(c, 0.26 * n, 20, 30, 10);
+  if (name == "cube2")
+    return dgtest::MakeRotatedCube(c, 0.26 * n, 35, 10, 50);
+  if (name == "cubesphere")
+    return dgtest::MakeCubeSphere(c, 0.3 * n, 0.38 * n);
+  if (name == "octahedron")
+    return dgtest::MakeOctahedron(c, 0.42 * n);
+  if (name == "wedge")
+    return dgtest::MakeWedge(c, 0.3 * n);
+  return nullptr;
+}
+// Mean unoriented error by distance to the nearest true edge (bins of 1 voxel).
+std::string Profile(const dgtest::ImplicitShape& shape, vtkPolyData* surface, const char* name)
+{
+  const auto centres = dgtest::SurfelCenters(surface);
+  vtkDataArray* n = surface->GetCellData()->GetArray(name);
+  double sum[8] = { 0 };
+  int count[8] = { 0 };
+  int big = 0, outside = 0;
+  for (std::size_t i = 0; i < centres.size(); ++i)
+  {
+    const double value = shape.Value(centres[i]);
+    if (std::abs(value) > 2)
+      continue;
+    const V3 t = shape.Normal(centres[i]);
+    const double d = shape.DistanceToSharpEdge(centres[i] - value * t, 9.0);
+    const int b = d < 7 ? static_cast<int>(d) : 7;
+    double u[3];
+    n->GetTuple(i, u);
+    double a = dgtest::AngleDegrees(V3(u[0], u[1], u[2]), t);
+    sum[b] += std::min(a, 180 - a);
+    ++count[b];
+    if (b == 0)
+      big += std::min(a, 180 - a) > 30, outside += value > 0;
+  }
+  std::string out;
+  char buf[96];
+  for (int b = 0; b < 8; ++b)
+  {
+    std::snprintf(buf, sizeof(buf), " %5.1f", count[b] ? sum[b] / count[b] : 0.0);
+    out += buf;
+  }
+  std::snprintf(buf, sizeof(buf), " | bin0 >30deg %d/%d, outside %d", big, count[0], outside);
+  return out + buf;
+}
+// Temporary stand-in for the island filter: flips 6-connected components of
+// either value smaller than minSize voxels.
+void RemoveSmallComponents(vtkImageData* image, int minSize)
+{
+  int d[3];
+  image->GetDimensions(d);
+  auto* s = static_cast<unsigned char*>(image->GetScalarPointer());
+  const long n = long(d[0]) * d[1] * d[2];
+  std::vector<int> label(n, -1);
+  std::vector<long> stack, members;
+  for (long seed = 0; seed < n; ++seed)
+  {
+    if (label[seed] >= 0)
+      continue;
+    const unsigned char val = s[seed] != 0;
+    members.clear();
+    stack.assign(1, seed);
+    label[seed] = 1;
+    bool border = false;
+    while (!stack.empty())
+    {
+      const long id = stack.back();
+      stack.pop_back();
+      members.push_back(id);
+      const int i = id % d[0], j = (id / d[0]) % d[1], k = id / (long(d[0]) * d[1]);
+      border |= i == 0 || j == 0 || k == 0 || i == d[0] - 1 || j == d[1] - 1 || k == d[2] - 1;
+      const long nb[6] = { i > 0 ? id - 1 : -1, i + 1 < d[0] ? id + 1 : -1, j > 0 ? id - d[0] : -1,
+        j + 1 < d[1] ? id + d[0] : -1, k > 0 ? id - long(d[0]) * d[1] : -1,
+        k + 1 < d[2] ? id + long(d[0]) * d[1] : -1 };
+      for (long q : nb)
+        if (q >= 0 && label[q] < 0 && (s[q] != 0) == val)
+        {
+          label[q] = 1;
+          stack.push_back(q);
+        }
+    }
+    if (static_cast<int>(members.size()) < minSize && (val || !border))
+      for (long id : members)
+        s[id] = !val;
+  }
+}
+} // namespace
+
+int main(int argc, char* argv[])
+{
+  std::vector<int> sizes = { 64 };
+  std::vector<std::string> shapes = { "cube", "cube2", "octahedron", "cubesphere" };
+  std::vector<double> noise = { 0, 0.3 };
+  std::vector<int> seeds = { 1 };
+  double radius = 4, alpha = 0.05, lambda = 0.01, angle = 15;
+  int depth = 5, minRegion = 30;
+  double threshold = 0.5, edgeAngle = 10;
+  int islands = 8, position = 0, passes = 2, voteDepth = 2, dilation = 0, fit = 1;
+  double beta = 0.2, residual = 0.3;
+  for (int a = 1; a + 1 < argc; a += 2)
+  {
+    const std::string k = argv[a], v = argv[a + 1];
+    if (k == "--sizes")
+    {
+      sizes.clear();
+      for (auto& s : Split(v))
+        sizes.push_back(std::stoi(s));
+    }
+    else if (k == "--shapes")
+      shapes = Split(v);
+    else if (k == "--noise")
+    {
+      noise.clear();
+      for (auto& s : Split(v))
+        noise.push_back(std::stod(s));
+    }
+    else if (k == "--seeds")
+    {
+      seeds.clear();
+      for (auto& s : Split(v))
+        seeds.push_back(std::stoi(s));
+    }
+    else if (k == "--radius")
+      radius = std::stod(v);
+    else if (k == "--alpha")
+      alpha = std::stod(v);
+    else if (k == "--lambda")
+      lambda = std::stod(v);
+    else if (k == "--depth")
+      depth = std::stoi(v);
+    else if (k == "--min-region")
+      minRegion = std::stoi(v);
+    else if (k == "--position")
+      position = std::stoi(v);
+    else if (k == "--beta")
+      beta = std::stod(v);
+    else if (k == "--residual")
+      residual = std::stod(v);
+    else if (k == "--dilation")
+      dilation = std::stoi(v);
+    else if (k == "--fit")
+      fit = std::stoi(v);
+    else if (k == "--passes")
+      passes = std::stoi(v);
+    else if (k == "--vote-depth")
+      voteDepth = std::stoi(v);
+    else if (k == "--islands")
+      islands = std::stoi(v);
+    else if (k == "--edge-angle")
+      edgeAngle = std::stod(v);
+    else if (k == "--threshold")
+      threshold = std::stod(v);
+    else if (k == "--angle")
+      angle = std::stod(v);
+    else
+    {
+      std::fprintf(stderr, "unknown option %s\n", k.c_str());
+      return 2;
+    }
+  }
+  if (!std::getenv("VTK_SMP_BACKEND_IN_USE"))
+    vtkSMPTools::SetBackend("STDThread");
+  for (int n : sizes)
+    for (const auto& name : shapes)
+    {
+      auto shape = MakeShape(name, n);
+      if (!shape)
+      {
+        std::fprintf(stderr, "unknown shape %s\n", name.c_str());
+        return 2;
+      }
+      for (double k : noise)
+        for (std::size_t si = 0; si < (k == 0 ? 1 : seeds.size()); ++si)
+        {
+          const auto t0 = std::chrono::steady_clock::now();
+          auto image = dgtest::NoisyDigitize(*shape, n, k, seeds[si]);
+          if (islands > 0)
+            RemoveSmallComponents(image, islands);
+          vtkNew<vtkDigitalSurfaceFilter> surf;
+          surf->SetInputData(image);
+          vtkNew<vtkIINormalEstimator> ii;
+          ii->SetInputConnection(surf->GetOutputPort());
+          ii->SetSourceData(image);
+          ii->SetRadius(radius);
+          vtkNew<vtkAmbrosioTortorelliFilter> at;
+          at->SetInputConnection(ii->GetOutputPort());
+          at->SetAlpha(alpha);
+          at->SetLambda(lambda);
+          vtkNew<vtkSharpFeaturesFilter> sharp;
+          sharp->SetInputConnection(at->GetOutputPort());
+          sharp->SetSearchDepth(depth);
+          sharp->SetSmoothingPasses(passes);
+          sharp->SetSmoothingDepth(voteDepth);
+          sharp->SetPositionDepth(position);
+          sharp->SetRegionEdgeAngle(edgeAngle);
+          sharp->SetFeatureThreshold(threshold);
+          sharp->SetMinimumRegionSize(minRegion);
+          sharp->SetMinimumFeatureAngle(angle);
+          sharp->SetFitPlanes(fit != 0);
+          sharp->SetFitResidual(residual);
+          sharp->SetReferenceWeight(beta);
+          sharp->SetBandDilation(dilation);
+          sharp->Update();
+          const double s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+          const auto mAT = dgtest::MeasureFeatures(*shape, at->GetOutput(0), "ATNormals", at->GetOutput(1));
+          const auto mII = dgtest::MeasureFeatures(*shape, ii->GetOutput(), "IINormals", nullptr);
+          const auto mS = dgtest::MeasureFeatures(
+            *shape, sharp->GetOutput(0), "SharpNormals", sharp->GetOutput(1));
+          std::printf("%-10s %4d k %.1f s %d | II   err mean %.2f <1 %.2f <3 %.2f\n", name.c_str(), n, k,
+            seeds[si], mII.MeanError, mII.Error1, mII.Error3);
+          std::printf("%-10s %4d k %.1f s %d | AT    %s\n", name.c_str(), n, k, seeds[si],
+            mAT.Describe().c_str());
+          std::printf("%-10s %4d k %.1f s %d | sharp %s | band %lld unassigned %lld regions %d | %.1f s\n",
+            name.c_str(), n, k, seeds[si], mS.Describe().c_str(),
+            static_cast<long long>(sharp->GetNumberOfBandFaces()),
+            static_cast<long long>(sharp->GetNumberOfUnassignedFaces()), sharp->GetNumberOfRegions(), s);
+          if (const char* dump = std::getenv("DG_DUMP"))
+          {
+            vtkNew<vtkXMLPolyDataWriter> w;
+            w->SetInputData(sharp->GetOutput(0));
+            w->SetFileName((std::string(dump) + "_surface.vtp").c_str());
+            w->Write();
+            w->SetInputData(sharp->GetOutput(1));
+            w->SetFileName((std::string(dump) + "_lines.vtp").c_str());
+            w->Write();
+            w->SetInputData(at->GetOutput(1));
+            w->SetFileName((std::string(dump) + "_atlines.vtp").c_str());
+            w->Write();
+          }
+          if (std::getenv("DG_PROFILE"))
+          {
+            vtkPolyData* l = sharp->GetOutput(1);
+            int h[5] = { 0 };
+            for (vtkIdType c = 0; c < l->GetNumberOfCells(); ++c)
+            {
+              double a[3], b[3];
+              vtkIdType npts;
+              const vtkIdType* pts;
+              l->GetCellPoints(c, npts, pts);
+              l->GetPoint(pts[0], a);
+              l->GetPoint(pts[1], b);
+              const double d = shape->DistanceToSharpEdge(
+                V3((a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2), 20);
+              ++h[d <= 1.5 ? 0 : d <= 3 ? 1 : d <= 6 ? 2 : d <= 12 ? 3 : 4];
+            }
+            std::printf("   sharp lines by edge distance <=1.5 %d, <=3 %d, <=6 %d, <=12 %d, more %d\n", h[0],
+              h[1], h[2], h[3], h[4]);
+          }
+          if (std::getenv("DG_PROFILE"))
+            std::printf("   profile by edge distance 0..7+: II%s\n   AT%s\n   sharp%s\n",
+              Profile(*shape, ii->GetOutput(), "IINormals").c_str(),
+              Profile(*shape, at->GetOutput(0), "ATNormals").c_str(),
+              Profile(*shape, sharp->GetOutput(0), "SharpNormals").c_str());
+          std::fflush(stdout);
+        }
+    }
+  return 0;
+}

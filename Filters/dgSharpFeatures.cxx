@@ -1,0 +1,629 @@
+#include "dgSharpFeatures.h"
+
+#include <vtkSMPThreadLocal.h>
+#include <vtkSMPTools.h>
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <utility>
+
+namespace dg
+{
+namespace
+{
+
+struct Vec3
+{
+  double x = 0, y = 0, z = 0;
+  Vec3() = default;
+  Vec3(double a, double b, double c)
+    : x(a)
+    , y(b)
+    , z(c)
+  {
+  }
+  Vec3 operator+(const Vec3& o) const { return { x + o.x, y + o.y, z + o.z }; }
+  Vec3 operator-(const Vec3& o) const { return { x - o.x, y - o.y, z - o.z }; }
+  Vec3 operator*(double s) const { return { x * s, y * s, z * s }; }
+  Vec3& operator+=(const Vec3& o)
+  {
+    x += o.x;
+    y += o.y;
+    z += o.z;
+    return *this;
+  }
+  double Dot(const Vec3& o) const { return x * o.x + y * o.y + z * o.z; }
+  Vec3 Cross(const Vec3& o) const
+  {
+    return { y * o.z - z * o.y, z * o.x - x * o.z, x * o.y - y * o.x };
+  }
+  double Norm() const { return std::sqrt(this->Dot(*this)); }
+  Vec3 Unit() const
+  {
+    const double n = this->Norm();
+    return n > 0 ? *this * (1.0 / n) : Vec3();
+  }
+};
+
+double AngleDegrees(const Vec3& a, const Vec3& b)
+{
+  // atan2 of |a x b| and a.b: accurate for small angles, unlike acos.
+  return std::atan2(a.Cross(b).Norm(), a.Dot(b)) * 180.0 / M_PI;
+}
+
+// Faces around each edge (CSR) and edges of each face, from the polygons'
+// sides; an edge is an unordered point pair.
+struct FaceGraph
+{
+  std::vector<std::array<std::int64_t, 2>> Edges;
+  std::vector<std::int64_t> EdgeFacePtr;
+  std::vector<std::int64_t> EdgeFaces;
+  std::vector<std::int64_t> FaceEdgePtr;
+  std::vector<std::int64_t> FaceEdges;
+
+  void Build(const std::vector<std::int64_t>& offsets, const std::vector<std::int64_t>& conn)
+  {
+    const std::int64_t F = static_cast<std::int64_t>(offsets.size()) - 1;
+    struct Side
+    {
+      std::int64_t A, B, Face;
+    };
+    std::vector<Side> sides;
+    sides.reserve(conn.size());
+    for (std::int64_t f = 0; f < F; ++f)
+    {
+      const std::int64_t b = offsets[f], e = offsets[f + 1];
+      for (std::int64_t k = b; k < e; ++k)
+      {
+        const std::int64_t p = conn[k], q = conn[k + 1 < e ? k + 1 : b];
+        if (p != q)
+          sides.push_back({ std::min(p, q), std::max(p, q), f });
+      }
+    }
+    std::sort(sides.begin(), sides.end(), [](const Side& s, const Side& t) {
+      return s.A != t.A ? s.A < t.A : s.B != t.B ? s.B < t.B : s.Face < t.Face;
+    });
+    this->EdgeFacePtr.assign(1, 0);
+    std::vector<std::int64_t> faceEdgeCount(F + 1, 0);
+    std::vector<std::pair<std::int64_t, std::int64_t>> faceEdge; // (face, edge)
+    faceEdge.reserve(sides.size());
+    for (std::size_t i = 0; i < sides.size();)
+    {
+      std::size_t j = i;
+      const std::int64_t e = static_cast<std::int64_t>(this->Edges.size());
+      this->Edges.push_back({ sides[i].A, sides[i].B });
+      for (; j < sides.size() && sides[j].A == sides[i].A && sides[j].B == sides[i].B; ++j)
+      {
+        // A face that runs twice along the same edge counts once.
+        if (j == i || sides[j].Face != sides[j - 1].Face)
+        {
+          this->EdgeFaces.push_back(sides[j].Face);
+          faceEdge.emplace_back(sides[j].Face, e);
+          ++faceEdgeCount[sides[j].Face + 1];
+        }
+      }
+      this->EdgeFacePtr.push_back(static_cast<std::int64_t>(this->EdgeFaces.size()));
+      i = j;
+    }
+    std::partial_sum(faceEdgeCount.begin(), faceEdgeCount.end(), faceEdgeCount.begin());
+    this->FaceEdgePtr = faceEdgeCount;
+    this->FaceEdges.assign(faceEdge.size(), 0);
+    std::vector<std::int64_t> fill(faceEdgeCount.begin(), faceEdgeCount.end() - 1);
+    for (const auto& fe : faceEdge)
+      this->FaceEdges[fill[fe.first]++] = fe.second;
+  }
+};
+
+struct UnionFind
+{
+  std::vector<int> Parent;
+  explicit UnionFind(int n)
+    : Parent(n)
+  {
+    std::iota(this->Parent.begin(), this->Parent.end(), 0);
+  }
+  int Find(int a)
+  {
+    while (this->Parent[a] != a)
+      a = this->Parent[a] = this->Parent[this->Parent[a]];
+    return a;
+  }
+  bool Unite(int a, int b)
+  {
+    a = this->Find(a);
+    b = this->Find(b);
+    if (a == b)
+      return false;
+    this->Parent[std::max(a, b)] = std::min(a, b);
+    return true;
+  }
+};
+
+// What a band face's search found of one region.
+struct RegionSample
+{
+  int Region;
+  int Count = 0;
+  Vec3 CentroidSum, NormalSum;
+  double Moment[6] = { 0, 0, 0, 0, 0, 0 }; // sums of xx, xy, xz, yy, yz, zz
+
+  void AddPosition(const Vec3& p)
+  {
+    this->CentroidSum += p;
+    this->Moment[0] += p.x * p.x;
+    this->Moment[1] += p.x * p.y;
+    this->Moment[2] += p.x * p.z;
+    this->Moment[3] += p.y * p.y;
+    this->Moment[4] += p.y * p.z;
+    this->Moment[5] += p.z * p.z;
+  }
+
+  // The normal of the least-squares plane through the positions (the
+  // covariance's smallest eigenvector), turned to the side of the mean field
+  // normal; the mean field normal itself when the positions do not span a
+  // plane.
+  Vec3 PlaneNormal(double maxResidual2) const
+  {
+    const Vec3 mean = this->NormalSum.Unit();
+    if (this->Count < 3)
+      return mean;
+    const double n = this->Count;
+    const Vec3 c = this->CentroidSum * (1.0 / n);
+    Eigen::Matrix3d cov;
+    cov(0, 0) = this->Moment[0] / n - c.x * c.x;
+    cov(0, 1) = cov(1, 0) = this->Moment[1] / n - c.x * c.y;
+    cov(0, 2) = cov(2, 0) = this->Moment[2] / n - c.x * c.z;
+    cov(1, 1) = this->Moment[3] / n - c.y * c.y;
+    cov(1, 2) = cov(2, 1) = this->Moment[4] / n - c.y * c.z;
+    cov(2, 2) = this->Moment[5] / n - c.z * c.z;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+    const Eigen::Vector3d ev = eig.eigenvalues();
+    // A line of faces (second eigenvalue ~ 0) does not fix a plane.
+    if (!(ev(1) > 1e-3 * std::max(ev(2), 1e-300)) || !(ev(0) <= maxResidual2))
+      return mean;
+    const Eigen::Vector3d e = eig.eigenvectors().col(0);
+    Vec3 nrm(e(0), e(1), e(2));
+    return nrm.Dot(mean) < 0 ? nrm * -1.0 : nrm;
+  }
+};
+
+// Per-thread scratch of the band faces' searches.
+struct SearchScratch
+{
+  std::vector<std::uint32_t> Stamp;
+  std::uint32_t Current = 0;
+  std::vector<std::pair<std::int64_t, int>> Queue;
+  std::vector<RegionSample> Samples;
+};
+
+} // namespace
+
+bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
+  const std::vector<std::int64_t>& offsets, const std::vector<std::int64_t>& connectivity,
+  const double* normals, const double* v, const SharpFeatureParameters& par,
+  SharpFeatureResult& result, std::string* error, const std::function<bool(double)>& progress)
+{
+  auto fail = [&](const std::string& m) {
+    if (error)
+      *error = m;
+    return false;
+  };
+  result = SharpFeatureResult();
+  if (offsets.empty() || offsets.front() != 0 ||
+    offsets.back() != static_cast<std::int64_t>(connectivity.size()))
+    return fail("inconsistent polygon offsets");
+  for (std::int64_t id : connectivity)
+    if (id < 0 || id >= numberOfPoints)
+      return fail("a polygon refers to a point that does not exist");
+  if (par.MinimumRegionSize < 1 || par.SearchDepth < 0 || par.PositionDepth < 0 || par.SmoothingPasses < 0 || par.SmoothingDepth < 1 || par.MinimumSupport < 1 ||
+    !(par.MinimumFeatureAngle >= 0))
+    return fail("invalid sharp-feature parameters");
+  auto report = [&](double f) { return !progress || progress(f); };
+  auto aborted = [&]() {
+    if (error)
+      error->clear();
+    return false;
+  };
+
+  const std::int64_t F = static_cast<std::int64_t>(offsets.size()) - 1;
+  FaceGraph graph;
+  graph.Build(offsets, connectivity);
+
+  // Face centres, polygon normals (Newell) and unit field normals.
+  std::vector<Vec3> centre(F), polyNormal(F), field(F);
+  vtkSMPTools::For(0, F, [&](std::int64_t b, std::int64_t e) {
+    for (std::int64_t f = b; f < e; ++f)
+    {
+      Vec3 c, n;
+      const std::int64_t o = offsets[f], m = offsets[f + 1] - o;
+      for (std::int64_t k = 0; k < m; ++k)
+      {
+        const double* p = points + 3 * connectivity[o + k];
+        const double* q = points + 3 * connectivity[o + (k + 1) % m];
+        c += Vec3(p[0], p[1], p[2]);
+        n += Vec3(p[0], p[1], p[2]).Cross(Vec3(q[0], q[1], q[2]));
+      }
+      centre[f] = m > 0 ? c * (1.0 / m) : c;
+      polyNormal[f] = n.Unit();
+      field[f] = Vec3(normals[3 * f], normals[3 * f + 1], normals[3 * f + 2]).Unit();
+    }
+  });
+
+  // Plane fits count as planar when their RMS residual is below
+  // FitResidual edge lengths (noise-free digital planes: about 0.3).
+  double meanEdge2 = 0;
+  for (const auto& e : graph.Edges)
+  {
+    const double* p = points + 3 * e[0];
+    const double* q = points + 3 * e[1];
+    meanEdge2 += (Vec3(p[0], p[1], p[2]) - Vec3(q[0], q[1], q[2])).Norm();
+  }
+  meanEdge2 = graph.Edges.empty() ? 1.0 : meanEdge2 / graph.Edges.size();
+  const double maxResidual2 = std::pow(par.FitResidual * meanEdge2, 2);
+
+  // 1. Band faces.
+  std::vector<char> band(F, 0);
+  for (std::int64_t f = 0; f < F; ++f)
+    for (std::int64_t k = offsets[f]; k < offsets[f + 1] && !band[f]; ++k)
+      band[f] = v[connectivity[k]] < par.FeatureThreshold;
+
+  // Dilation: short gaps in AT's band would let the two sides' regions join.
+  for (int pass = 0; pass < par.BandDilation; ++pass)
+  {
+    std::vector<char> next(band);
+    for (std::int64_t f = 0; f < F; ++f)
+    {
+      if (!band[f])
+        continue;
+      for (std::int64_t k = graph.FaceEdgePtr[f]; k < graph.FaceEdgePtr[f + 1]; ++k)
+      {
+        const std::int64_t e = graph.FaceEdges[k];
+        for (std::int64_t j = graph.EdgeFacePtr[e]; j < graph.EdgeFacePtr[e + 1]; ++j)
+          next[graph.EdgeFaces[j]] = 1;
+      }
+    }
+    band.swap(next);
+  }
+
+  // 2. Regions: components of the non-band faces; small ones join the band.
+  std::vector<int> region(F, -1);
+  int regions = 0;
+  {
+    std::vector<std::int64_t> members;
+    std::vector<Vec3> reference(F);
+    for (std::int64_t seed = 0; seed < F; ++seed)
+    {
+      if (band[seed] || region[seed] >= 0)
+        continue;
+      // Breadth-first growth; each face carries a reference normal that
+      // follows the region's own normals with a lag, so that a region does
+      // not creep around the end of a gap in AT's band, where the normal
+      // turns over a few faces with no single large jump.
+      members.clear();
+      members.push_back(seed);
+      region[seed] = regions;
+      reference[seed] = field[seed];
+      for (std::size_t head = 0; head < members.size(); ++head)
+      {
+        const std::int64_t f = members[head];
+        for (std::int64_t k = graph.FaceEdgePtr[f]; k < graph.FaceEdgePtr[f + 1]; ++k)
+        {
+          const std::int64_t e = graph.FaceEdges[k];
+          for (std::int64_t j = graph.EdgeFacePtr[e]; j < graph.EdgeFacePtr[e + 1]; ++j)
+          {
+            const std::int64_t g = graph.EdgeFaces[j];
+            if (!band[g] && region[g] < 0 &&
+              AngleDegrees(reference[f], field[g]) <= par.RegionEdgeAngle)
+            {
+              region[g] = regions;
+              reference[g] = (reference[f] * (1.0 - par.ReferenceWeight) +
+                field[g] * par.ReferenceWeight).Unit();
+              members.push_back(g);
+            }
+          }
+        }
+      }
+      if (static_cast<int>(members.size()) < par.MinimumRegionSize)
+      {
+        for (std::int64_t f : members)
+        {
+          region[f] = -1;
+          band[f] = 1;
+        }
+        ++result.NumberOfDissolvedRegions;
+      }
+      else
+      {
+        ++regions;
+      }
+    }
+  }
+  if (!report(0.3))
+    return aborted();
+
+  // 3. Band faces join the region whose local plane is nearest.
+  std::vector<std::int64_t> bandFaces;
+  for (std::int64_t f = 0; f < F; ++f)
+    if (band[f])
+      bandFaces.push_back(f);
+  result.NumberOfBandFaces = static_cast<std::int64_t>(bandFaces.size());
+  std::vector<Vec3> out(field);
+  std::vector<int> assigned(region);
+  constexpr int MaximumDepth = 64; // bounds the search inside very wide bands
+  vtkSMPThreadLocal<SearchScratch> scratch;
+  vtkSMPTools::For(0, static_cast<std::int64_t>(bandFaces.size()), [&](std::int64_t b, std::int64_t e) {
+    SearchScratch& s = scratch.Local();
+    if (s.Stamp.empty())
+      s.Stamp.assign(F, 0);
+    for (std::int64_t i = b; i < e; ++i)
+    {
+      const std::int64_t f0 = bandFaces[i];
+      if (++s.Current == 0)
+      {
+        std::fill(s.Stamp.begin(), s.Stamp.end(), 0);
+        s.Current = 1;
+      }
+      s.Queue.assign(1, { f0, 0 });
+      s.Stamp[f0] = s.Current;
+      s.Samples.clear();
+      int limit = std::max(MaximumDepth, par.PositionDepth);
+      Vec3 position;
+      int positionCount = 0;
+      for (std::size_t head = 0; head < s.Queue.size(); ++head)
+      {
+        const std::int64_t f = s.Queue[head].first;
+        const int depth = s.Queue[head].second;
+        if (depth > limit)
+          break;
+        if (depth <= par.PositionDepth)
+        {
+          position += centre[f];
+          ++positionCount;
+        }
+        if (region[f] >= 0)
+        {
+          if (s.Samples.empty())
+            limit = std::max(par.PositionDepth, std::min(limit, depth + par.SearchDepth));
+          auto it = std::find_if(s.Samples.begin(), s.Samples.end(),
+            [&](const RegionSample& r) { return r.Region == region[f]; });
+          if (it == s.Samples.end())
+          {
+            s.Samples.emplace_back();
+            s.Samples.back().Region = region[f];
+            it = s.Samples.end() - 1;
+          }
+          ++it->Count;
+          it->AddPosition(centre[f]);
+          it->NormalSum += field[f];
+        }
+        if (depth == limit)
+          continue;
+        for (std::int64_t k = graph.FaceEdgePtr[f]; k < graph.FaceEdgePtr[f + 1]; ++k)
+        {
+          const std::int64_t ed = graph.FaceEdges[k];
+          for (std::int64_t j = graph.EdgeFacePtr[ed]; j < graph.EdgeFacePtr[ed + 1]; ++j)
+          {
+            const std::int64_t g = graph.EdgeFaces[j];
+            if (s.Stamp[g] != s.Current)
+            {
+              s.Stamp[g] = s.Current;
+              s.Queue.emplace_back(g, depth + 1);
+            }
+          }
+        }
+      }
+      if (s.Samples.empty())
+        continue;
+      // Candidates: enough support, and a normal on the face's own side.
+      int maxCount = 0;
+      for (const auto& r : s.Samples)
+        maxCount = std::max(maxCount, r.Count);
+      const int support = std::min(par.MinimumSupport, maxCount);
+      bool anyFacing = false;
+      for (const auto& r : s.Samples)
+        anyFacing |= r.Count >= support && r.NormalSum.Dot(polyNormal[f0]) > 0;
+      // Between two sides, the face belongs to the plane that put its
+      // outside voxel outside: at a convex edge (each side's centroid below
+      // the other's plane) the one with the larger signed distance, at a
+      // concave edge the smaller. A tournament over the candidates in region
+      // order keeps it deterministic.
+      const RegionSample* chosen = nullptr;
+      Vec3 chosenN, chosenC;
+      double chosenS = 0;
+      for (const auto& r : s.Samples)
+      {
+        if (r.Count < support || (anyFacing && r.NormalSum.Dot(polyNormal[f0]) <= 0))
+          continue;
+        const Vec3 n = r.NormalSum.Unit();
+        const Vec3 c = r.CentroidSum * (1.0 / r.Count);
+        const double sd = n.Dot(position * (1.0 / positionCount) - c);
+        bool take = !chosen;
+        if (chosen)
+        {
+          const double convexity = chosenN.Dot(c - chosenC) + n.Dot(chosenC - c);
+          take = convexity < 0 ? sd > chosenS : sd < chosenS;
+        }
+        if (take)
+        {
+          chosen = &r;
+          chosenN = n;
+          chosenC = c;
+          chosenS = sd;
+        }
+      }
+      if (chosen)
+      {
+        assigned[f0] = chosen->Region;
+        out[f0] = par.FitPlanes ? chosen->PlaneNormal(maxResidual2) : chosenN;
+      }
+    }
+  });
+  // Majority smoothing of the band's labels: noise moves single faces to
+  // the wrong side, which draws a wiggling line.
+  for (int pass = 0; pass < par.SmoothingPasses; ++pass)
+  {
+    std::vector<int> nextLabel(assigned);
+    std::vector<Vec3> nextNormal(out);
+    vtkSMPTools::For(0, static_cast<std::int64_t>(bandFaces.size()), [&](std::int64_t b, std::int64_t e) {
+      SearchScratch& s = scratch.Local();
+      if (s.Stamp.empty())
+        s.Stamp.assign(F, 0);
+      for (std::int64_t i = b; i < e; ++i)
+      {
+        const std::int64_t f0 = bandFaces[i];
+        if (assigned[f0] < 0)
+          continue;
+        if (++s.Current == 0)
+        {
+          std::fill(s.Stamp.begin(), s.Stamp.end(), 0);
+          s.Current = 1;
+        }
+        s.Queue.assign(1, { f0, 0 });
+        s.Stamp[f0] = s.Current;
+        s.Samples.clear();
+        for (std::size_t head = 0; head < s.Queue.size(); ++head)
+        {
+          const std::int64_t f = s.Queue[head].first;
+          const int depth = s.Queue[head].second;
+          if (assigned[f] >= 0)
+          {
+            auto it = std::find_if(s.Samples.begin(), s.Samples.end(),
+              [&](const RegionSample& r) { return r.Region == assigned[f]; });
+            if (it == s.Samples.end())
+            {
+              s.Samples.emplace_back();
+              s.Samples.back().Region = assigned[f];
+              it = s.Samples.end() - 1;
+            }
+            ++it->Count;
+            it->NormalSum += out[f];
+          }
+          if (depth == par.SmoothingDepth)
+            continue;
+          for (std::int64_t k = graph.FaceEdgePtr[f]; k < graph.FaceEdgePtr[f + 1]; ++k)
+          {
+            const std::int64_t ed = graph.FaceEdges[k];
+            for (std::int64_t j = graph.EdgeFacePtr[ed]; j < graph.EdgeFacePtr[ed + 1]; ++j)
+            {
+              const std::int64_t g = graph.EdgeFaces[j];
+              if (s.Stamp[g] != s.Current)
+              {
+                s.Stamp[g] = s.Current;
+                s.Queue.emplace_back(g, depth + 1);
+              }
+            }
+          }
+        }
+        const RegionSample* own = nullptr;
+        const RegionSample* best = nullptr;
+        for (const auto& r : s.Samples)
+        {
+          if (r.Region == assigned[f0])
+            own = &r;
+          if (!best || r.Count > best->Count || (r.Count == best->Count && r.Region < best->Region))
+            best = &r;
+        }
+        if (best && own && best != own && best->Count > own->Count)
+        {
+          nextLabel[f0] = best->Region;
+          nextNormal[f0] = best->NormalSum.Unit();
+        }
+      }
+    });
+    assigned.swap(nextLabel);
+    out.swap(nextNormal);
+  }
+  if (!report(0.7))
+    return aborted();
+
+  // 4. Merge regions whose common boundary has a weak mean normal jump.
+  const std::int64_t E = static_cast<std::int64_t>(graph.Edges.size());
+  // Each side's normals along the boundary are summed before the angle is
+  // taken: single faces' normals are noisy, their means are not.
+  struct Boundary
+  {
+    Vec3 Low, High; // sums of the normals on the lower and higher region's side
+    std::int64_t Edges = 0;
+  };
+  std::map<std::pair<int, int>, Boundary> boundary;
+  for (std::int64_t e = 0; e < E; ++e)
+  {
+    for (std::int64_t a = graph.EdgeFacePtr[e]; a < graph.EdgeFacePtr[e + 1]; ++a)
+      for (std::int64_t b = a + 1; b < graph.EdgeFacePtr[e + 1]; ++b)
+      {
+        std::int64_t fa = graph.EdgeFaces[a], fb = graph.EdgeFaces[b];
+        if (assigned[fa] < 0 || assigned[fb] < 0 || assigned[fa] == assigned[fb])
+          continue;
+        if (assigned[fa] > assigned[fb])
+          std::swap(fa, fb);
+        auto& acc = boundary[{ assigned[fa], assigned[fb] }];
+        acc.Low += out[fa];
+        acc.High += out[fb];
+        ++acc.Edges;
+      }
+  }
+  if (std::getenv("DG_DEBUG"))
+  {
+    std::fprintf(stderr, "regions before merge %d, dissolved %d\n", regions, result.NumberOfDissolvedRegions);
+    for (const auto& b : boundary)
+      std::fprintf(stderr, "  boundary %d-%d: %lld edges, angle %.1f\n", b.first.first, b.first.second,
+        static_cast<long long>(b.second.Edges), AngleDegrees(b.second.Low, b.second.High));
+  }
+  UnionFind uf(regions);
+  for (const auto& b : boundary)
+    if (AngleDegrees(b.second.Low, b.second.High) < par.MinimumFeatureAngle)
+      result.NumberOfMergedBoundaries += uf.Unite(b.first.first, b.first.second);
+  // Renumber the merged regions in order of first appearance.
+  std::vector<int> relabel(regions, -1);
+  result.Region.assign(F, -1);
+  for (std::int64_t f = 0; f < F; ++f)
+  {
+    if (assigned[f] < 0)
+    {
+      result.NumberOfUnassignedFaces += band[f] != 0;
+      continue;
+    }
+    int& r = relabel[uf.Find(assigned[f])];
+    if (r < 0)
+      r = result.NumberOfRegions++;
+    result.Region[f] = r;
+  }
+
+  // 5. Feature edges: between faces of different regions.
+  for (std::int64_t e = 0; e < E; ++e)
+  {
+    double angle = -1;
+    for (std::int64_t a = graph.EdgeFacePtr[e]; a < graph.EdgeFacePtr[e + 1]; ++a)
+      for (std::int64_t b = a + 1; b < graph.EdgeFacePtr[e + 1]; ++b)
+      {
+        const std::int64_t fa = graph.EdgeFaces[a], fb = graph.EdgeFaces[b];
+        const int ra = result.Region[fa], rb = result.Region[fb];
+        if (ra >= 0 && rb >= 0 && ra != rb)
+          angle = std::max(angle, AngleDegrees(out[fa], out[fb]));
+      }
+    if (angle >= 0)
+    {
+      result.FeatureEdges.push_back(graph.Edges[e]);
+      result.FeatureAngle.push_back(angle);
+    }
+  }
+  result.Normals.resize(3 * F);
+  for (std::int64_t f = 0; f < F; ++f)
+  {
+    result.Normals[3 * f] = out[f].x;
+    result.Normals[3 * f + 1] = out[f].y;
+    result.Normals[3 * f + 2] = out[f].z;
+  }
+  if (!report(1.0))
+    return aborted();
+  return true;
+}
+
+} // namespace dg

@@ -1,0 +1,85 @@
+// One line per sharp edge, on the edge, and the normal of its own side on
+// every face up to it: a stage after Ambrosio-Tortorelli (docs/sharp-features.md).
+//
+// AT leaves a band of low v along each sharp edge, a few faces wide (two
+// vertex lines either side of the edge with rungs between them, and the
+// faces between them keeping the input estimator's blended normal). This
+// core reads the band as "here is a discontinuity, somewhere inside" and
+// decides where, from the smooth parts on either side:
+//
+// 1. Band faces: faces with a vertex whose v is below FeatureThreshold.
+// 2. Regions: connected components of the other faces (through shared
+//    edges). Regions with fewer than MinimumRegionSize faces (the inside of
+//    AT's loops around noise bumps) are dissolved into the band.
+// 3. Each band face looks for the regions around it: a breadth-first search
+//    over the face graph collects region faces up to SearchDepth steps
+//    beyond the first one it meets. Every region met (with at least
+//    MinimumSupport faces) gives a local plane: the centroid of those faces
+//    and the normalised mean of their normals. The face joins the region
+//    whose plane its centre is closest to (only regions whose normal faces
+//    the same way as the face's own polygon take part) and takes that
+//    plane's normal. A band face that meets no region keeps its normal and
+//    region -1.
+// 4. Regions meeting along a boundary whose mean normal jump (over the
+//    boundary's edges) is below MinimumFeatureAngle are merged: AT's false
+//    bands inside a smooth part give no line.
+// 5. Features: the edges between faces of two different (merged) regions.
+//    The line runs where the two sides' faces meet: one staircase line.
+//
+// Plain C++ on a polygon mesh in offsets/connectivity form (vtkCellArray's
+// layout), testable without a pipeline.
+#ifndef dgSharpFeatures_h
+#define dgSharpFeatures_h
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace dg
+{
+
+struct SharpFeatureParameters
+{
+  double FeatureThreshold = 0.5; // v below it marks a band vertex
+  int BandDilation = 0;          // face steps added around the band
+  int MinimumRegionSize = 30;    // faces; smaller regions join the band
+  int SearchDepth = 3;           // face steps beyond the first region face met
+  int PositionDepth = 0;         // the face's position: mean centre of the faces this close
+  int SmoothingPasses = 2;       // majority votes over the band's labels
+  int SmoothingDepth = 2;        // face steps of the vote's neighbourhood
+  bool FitPlanes = true;         // local planes fitted to positions (else mean normals)
+  double FitResidual = 0.3;      // edge lengths: a fit with a larger RMS residual is not used
+  int MinimumSupport = 3;        // region faces needed for a local plane
+  double MinimumFeatureAngle = 15.0; // degrees; weaker boundaries are merged
+  double ReferenceWeight = 0.2; // how fast a region's reference normal follows its faces
+  double RegionEdgeAngle = 10.0; // degrees; a region does not grow across a larger jump
+};
+
+struct SharpFeatureResult
+{
+  std::vector<double> Normals;  // 3 per face, unit
+  std::vector<int> Region;      // per face: region id (0..NumberOfRegions-1) or -1
+  std::vector<std::array<std::int64_t, 2>> FeatureEdges; // point id pairs
+  std::vector<double> FeatureAngle; // per feature edge: normal jump (degrees)
+  int NumberOfRegions = 0;
+  std::int64_t NumberOfBandFaces = 0;
+  std::int64_t NumberOfUnassignedFaces = 0; // band faces that met no region
+  int NumberOfDissolvedRegions = 0;         // regions smaller than the minimum
+  int NumberOfMergedBoundaries = 0;         // region pairs merged in step 4
+};
+
+/// points: 3 per point; normals: 3 per face (need not be unit; zero vectors
+/// are allowed and count as "no direction"); v: one per point. Returns false
+/// with a message on inconsistent input. `progress` (may be empty) gets a
+/// fraction in [0, 1] and returns false to abort (then false, error empty).
+bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
+  const std::vector<std::int64_t>& offsets, const std::vector<std::int64_t>& connectivity,
+  const double* normals, const double* v, const SharpFeatureParameters& parameters,
+  SharpFeatureResult& result, std::string* error = nullptr,
+  const std::function<bool(double)>& progress = {});
+
+} // namespace dg
+
+#endif

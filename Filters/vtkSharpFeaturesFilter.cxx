@@ -1,0 +1,290 @@
+#include "vtkSharpFeaturesFilter.h"
+
+#include "dgPipelineAbort.h"
+#include "dgSharpFeatures.h"
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkDataArrayRange.h>
+#include <vtkDoubleArray.h>
+#include <vtkIdTypeArray.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkIntArray.h>
+#include <vtkObjectFactory.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+vtkStandardNewMacro(vtkSharpFeaturesFilter);
+
+struct vtkSharpFeaturesFilter::Internals
+{
+  dg::PipelineAbort Abort;
+};
+
+vtkSharpFeaturesFilter::vtkSharpFeaturesFilter()
+  : Internal(new Internals)
+{
+  this->SetNumberOfOutputPorts(2);
+  this->SetInputArrayToProcess(
+    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "ATNormals");
+  this->SetInputArrayToProcess(
+    1, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "ATFeatureIndicator");
+}
+
+vtkSharpFeaturesFilter::~vtkSharpFeaturesFilter() = default;
+
+vtkMTimeType vtkSharpFeaturesFilter::GetMTime()
+{
+  return this->Internal->Abort.MTime(this->Superclass::GetMTime());
+}
+
+int vtkSharpFeaturesFilter::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+  return 1;
+}
+
+
+int vtkSharpFeaturesFilter::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  Internals& internal = *this->Internal;
+  const auto abortGuard = internal.Abort.Begin(this, outputVector);
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  vtkPolyData* lines = vtkPolyData::GetData(outputVector, 1);
+  this->NumberOfBandFaces = this->NumberOfUnassignedFaces = 0;
+  this->NumberOfRegions = 0;
+  if (!input || !output || !lines)
+  {
+    vtkErrorMacro("Missing input or output.");
+    return 0;
+  }
+  if (dg::PipelineAbort::InputAborted(inputVector, 1))
+  {
+    return internal.Abort.Abort(outputVector);
+  }
+
+  dg::SharpFeatureParameters par;
+  par.FeatureThreshold = this->FeatureThreshold;
+  par.MinimumRegionSize = this->MinimumRegionSize;
+  par.SearchDepth = this->SearchDepth;
+  par.PositionDepth = this->PositionDepth;
+  par.SmoothingPasses = this->SmoothingPasses;
+  par.SmoothingDepth = this->SmoothingDepth;
+  par.FitPlanes = this->FitPlanes;
+  par.FitResidual = this->FitResidual;
+  par.ReferenceWeight = this->ReferenceWeight;
+  par.BandDilation = this->BandDilation;
+  par.MinimumFeatureAngle = this->MinimumFeatureAngle;
+  par.RegionEdgeAngle = this->RegionEdgeAngle;
+  std::string problem;
+  if (!(par.FeatureThreshold > 0 && par.FeatureThreshold < 1))
+    problem += " FeatureThreshold must be in (0, 1).";
+  if (par.MinimumRegionSize < 1)
+    problem += " MinimumRegionSize must be >= 1.";
+  if (par.SearchDepth < 0)
+    problem += " SearchDepth must be >= 0.";
+  if (par.PositionDepth < 0)
+    problem += " PositionDepth must be >= 0.";
+  if (par.SmoothingPasses < 0 || par.SmoothingDepth < 1)
+    problem += " SmoothingPasses must be >= 0 and SmoothingDepth >= 1.";
+  if (!(par.MinimumFeatureAngle >= 0 && par.MinimumFeatureAngle <= 180))
+    problem += " MinimumFeatureAngle must be in [0, 180].";
+  if (!(par.FitResidual >= 0))
+    problem += " FitResidual must be >= 0.";
+  if (!(par.ReferenceWeight > 0 && par.ReferenceWeight <= 1))
+    problem += " ReferenceWeight must be in (0, 1].";
+  if (par.BandDilation < 0)
+    problem += " BandDilation must be >= 0.";
+  if (!(par.RegionEdgeAngle > 0 && par.RegionEdgeAngle <= 180))
+    problem += " RegionEdgeAngle must be in (0, 180].";
+  if (!problem.empty())
+  {
+    vtkErrorMacro("Invalid parameters:" << problem);
+    return 0;
+  }
+  vtkCellArray* polys = input->GetPolys();
+  const vtkIdType nFaces = polys ? polys->GetNumberOfCells() : 0;
+  if (nFaces == 0)
+  {
+    vtkErrorMacro("The input has no polygons: the sharp-features filter works on a surface.");
+    return 0;
+  }
+  // ParaView sends an empty name until it knows the input's arrays: that
+  // means the default array.
+  auto selectedArray = [&](int idx, const char* fallback, int wantedAssociation) -> vtkDataArray*
+  {
+    int association = -1;
+    vtkDataArray* a = this->GetInputArrayToProcess(idx, input, association);
+    vtkInformation* info = this->GetInputArrayInformation(idx);
+    const char* name = info && info->Has(vtkDataObject::FIELD_NAME())
+      ? info->Get(vtkDataObject::FIELD_NAME())
+      : nullptr;
+    if (!a && name && !*name)
+    {
+      a = wantedAssociation == vtkDataObject::FIELD_ASSOCIATION_CELLS
+        ? input->GetCellData()->GetArray(fallback)
+        : input->GetPointData()->GetArray(fallback);
+      association = wantedAssociation;
+    }
+    const char* what = idx == 0 ? "cell normal field" : "point feature indicator";
+    if (!a)
+    {
+      problem = std::string("No ") + what + ": the input has no array named '" +
+        (name && *name ? name : fallback) +
+        "' (run vtkAmbrosioTortorelliFilter first, or choose the arrays with "
+        "SetInputArrayToProcess).";
+      return nullptr;
+    }
+    if (association != wantedAssociation)
+    {
+      problem = std::string("The ") + what + " '" + (a->GetName() ? a->GetName() : "") +
+        "' must be " + (idx == 0 ? "cell" : "point") + " data.";
+      return nullptr;
+    }
+    const int nc = idx == 0 ? 3 : 1;
+    if (a->GetNumberOfComponents() != nc)
+    {
+      problem = std::string("The ") + what + " '" + (a->GetName() ? a->GetName() : "") +
+        "' must have " + std::to_string(nc) + " component" + (nc > 1 ? "s" : "") + ".";
+      return nullptr;
+    }
+    return a;
+  };
+  vtkDataArray* normals = selectedArray(0, "ATNormals", vtkDataObject::FIELD_ASSOCIATION_CELLS);
+  vtkDataArray* indicator = normals
+    ? selectedArray(1, "ATFeatureIndicator", vtkDataObject::FIELD_ASSOCIATION_POINTS)
+    : nullptr;
+  if (!normals || !indicator)
+  {
+    vtkErrorMacro(<< problem);
+    return 0;
+  }
+  const vtkIdType nCells = input->GetNumberOfCells();
+  const vtkIdType nPoints = input->GetNumberOfPoints();
+  const vtkIdType polyOffset = input->GetNumberOfVerts() + input->GetNumberOfLines();
+  std::vector<double> g(3 * nFaces), v(nPoints), xyz(3 * nPoints);
+  {
+    const auto nt = vtk::DataArrayTupleRange<3>(normals);
+    for (vtkIdType f = 0; f < nFaces; ++f)
+      for (int c = 0; c < 3; ++c)
+        g[3 * f + c] = static_cast<double>(nt[polyOffset + f][c]);
+    const auto vr = vtk::DataArrayValueRange<1>(indicator);
+    std::copy(vr.begin(), vr.end(), v.begin());
+    for (vtkIdType p = 0; p < nPoints; ++p)
+      input->GetPoint(p, &xyz[3 * p]);
+  }
+  for (double x : g)
+    if (!std::isfinite(x))
+    {
+      vtkErrorMacro("The normal field '" << normals->GetName() << "' has NaN or infinite values.");
+      return 0;
+    }
+  for (double x : v)
+    if (std::isnan(x))
+    {
+      vtkErrorMacro("The feature indicator '" << indicator->GetName() << "' has NaN values.");
+      return 0;
+    }
+  std::vector<std::int64_t> offsets(nFaces + 1), connectivity(polys->GetNumberOfConnectivityIds());
+  {
+    const auto off = vtk::DataArrayValueRange<1>(polys->GetOffsetsArray());
+    const auto conn = vtk::DataArrayValueRange<1>(polys->GetConnectivityArray());
+    std::copy(off.begin(), off.end(), offsets.begin());
+    std::copy(conn.begin(), conn.end(), connectivity.begin());
+  }
+  this->UpdateProgress(0.05);
+
+  dg::SharpFeatureResult res;
+  std::string error;
+  const bool ok = dg::ComputeSharpFeatures(nPoints, xyz.data(), offsets, connectivity, g.data(),
+    v.data(), par, res, &error, [this](double f) {
+      this->UpdateProgress(0.05 + 0.9 * f);
+      return !this->GetAbortExecute();
+    });
+  if (!ok)
+  {
+    if (error.empty())
+      return internal.Abort.Abort(outputVector);
+    vtkErrorMacro(<< error);
+    return 0;
+  }
+  this->NumberOfBandFaces = res.NumberOfBandFaces;
+  this->NumberOfUnassignedFaces = res.NumberOfUnassignedFaces;
+  this->NumberOfRegions = res.NumberOfRegions;
+
+  output->ShallowCopy(input);
+  vtkNew<vtkDoubleArray> sharp;
+  sharp->SetName("SharpNormals");
+  sharp->SetNumberOfComponents(3);
+  sharp->SetNumberOfTuples(nCells);
+  vtkNew<vtkIntArray> region;
+  region->SetName("FeatureRegion");
+  region->SetNumberOfTuples(nCells);
+  {
+    const auto nt = vtk::DataArrayTupleRange<3>(normals);
+    for (vtkIdType cell = 0; cell < nCells; ++cell)
+    {
+      const vtkIdType f = cell - polyOffset;
+      const bool poly = f >= 0 && f < nFaces;
+      for (int c = 0; c < 3; ++c)
+        sharp->SetComponent(cell, c, poly ? res.Normals[3 * f + c] : static_cast<double>(nt[cell][c]));
+      region->SetValue(cell, poly ? res.Region[f] : -1);
+    }
+  }
+  // AddArray then SetActiveNormals keeps the input normals for comparison.
+  output->GetCellData()->AddArray(sharp);
+  output->GetCellData()->SetActiveNormals("SharpNormals");
+  output->GetCellData()->AddArray(region);
+
+  const vtkIdType nLines = static_cast<vtkIdType>(res.FeatureEdges.size());
+  vtkNew<vtkIdTypeArray> lineOffsets, lineConn;
+  lineOffsets->SetNumberOfValues(nLines + 1);
+  lineConn->SetNumberOfValues(2 * nLines);
+  vtkNew<vtkDoubleArray> angle;
+  angle->SetName("FeatureAngle");
+  angle->SetNumberOfTuples(nLines);
+  for (vtkIdType l = 0; l < nLines; ++l)
+  {
+    lineOffsets->SetValue(l, 2 * l);
+    lineConn->SetValue(2 * l, res.FeatureEdges[l][0]);
+    lineConn->SetValue(2 * l + 1, res.FeatureEdges[l][1]);
+    angle->SetValue(l, res.FeatureAngle[l]);
+  }
+  lineOffsets->SetValue(nLines, 2 * nLines);
+  vtkNew<vtkCellArray> ca;
+  ca->SetData(lineOffsets, lineConn);
+  lines->SetPoints(input->GetPoints());
+  lines->SetLines(ca);
+  lines->GetCellData()->AddArray(angle);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkSharpFeaturesFilter::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "FeatureThreshold: " << this->FeatureThreshold << "\n";
+  os << indent << "MinimumRegionSize: " << this->MinimumRegionSize << "\n";
+  os << indent << "SearchDepth: " << this->SearchDepth << "\n";
+  os << indent << "PositionDepth: " << this->PositionDepth << "\n";
+  os << indent << "SmoothingPasses: " << this->SmoothingPasses << "\n";
+  os << indent << "SmoothingDepth: " << this->SmoothingDepth << "\n";
+  os << indent << "FitPlanes: " << (this->FitPlanes ? "On" : "Off") << "\n";
+  os << indent << "FitResidual: " << this->FitResidual << "\n";
+  os << indent << "ReferenceWeight: " << this->ReferenceWeight << "\n";
+  os << indent << "BandDilation: " << this->BandDilation << "\n";
+  os << indent << "MinimumFeatureAngle: " << this->MinimumFeatureAngle << "\n";
+  os << indent << "RegionEdgeAngle: " << this->RegionEdgeAngle << "\n";
+  os << indent << "NumberOfBandFaces: " << this->NumberOfBandFaces << "\n";
+  os << indent << "NumberOfUnassignedFaces: " << this->NumberOfUnassignedFaces << "\n";
+  os << indent << "NumberOfRegions: " << this->NumberOfRegions << "\n";
+}

@@ -1,0 +1,206 @@
+/**
+ * @class   vtkSharpFeaturesFilter
+ * @brief   One feature line per sharp edge, on the edge, and the normal of
+ *          its own side on every face up to it: a stage after
+ *          vtkAmbrosioTortorelliFilter.
+ *
+ * Ambrosio-Tortorelli (AT) marks each sharp edge with a band of low v a few
+ * faces wide: its feature edges come out as a ladder (two lines either side
+ * of the edge, rungs between them), and the faces inside the band keep the
+ * input estimator's normal, blended across the edge. This filter reads the
+ * band as "a discontinuity lies in here" and places it from the smooth parts
+ * on either side (dgSharpFeatures.h; docs/sharp-features.md has the
+ * measurements):
+ * - the faces outside the band form regions (connected components; regions
+ *   with fewer than MinimumRegionSize faces, such as the inside of AT's
+ *   loops around noise bumps, join the band);
+ * - every band face joins the nearby region whose local plane (centroid and
+ *   mean normal of the region's faces found within SearchDepth face steps)
+ *   its centre is closest to, and takes that plane's normal;
+ * - regions whose common boundary has a mean normal jump below
+ *   MinimumFeatureAngle (degrees) are merged;
+ * - the feature lines are the edges between faces of different regions.
+ *
+ * Input: a vtkPolyData with polygons, a cell normal field (array 0 of
+ * SetInputArrayToProcess, default "ATNormals") and a point feature indicator
+ * (array 1, default "ATFeatureIndicator"): vtkAmbrosioTortorelliFilter's
+ * output port 0. Any other pair of arrays with the same meaning works.
+ *
+ * Output port 0: the input surface (shallow copy) plus cell data
+ * "SharpNormals" (unit, the active normals) and "FeatureRegion" (int: the
+ * smooth part each face belongs to, -1 for band faces that met no region).
+ * Output port 1: the feature lines, as line cells on the surface's points,
+ * with cell data "FeatureAngle" (degrees, the normal jump across the edge).
+ *
+ * Parameters are in grid units (face steps), like AT's. Bad input (no
+ * polygons, missing or wrongly sized arrays, bad parameters) gives an error
+ * and empty outputs; aborting gives empty outputs without an error.
+ */
+#ifndef vtkSharpFeaturesFilter_h
+#define vtkSharpFeaturesFilter_h
+
+#include "vtkDigitalGeometryModule.h"
+#include "vtkPolyDataAlgorithm.h"
+
+#include <memory>
+
+class VTKDIGITALGEOMETRY_EXPORT vtkSharpFeaturesFilter : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkSharpFeaturesFilter* New();
+  vtkTypeMacro(vtkSharpFeaturesFilter, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * A face is in the band when one of its points has a feature indicator
+   * below this value (in (0, 1), default 0.5, AT's own FeatureThreshold).
+   */
+  vtkSetMacro(FeatureThreshold, double);
+  vtkGetMacro(FeatureThreshold, double);
+  ///@}
+
+  ///@{
+  /**
+   * Regions of fewer faces join the band (>= 1, default 30): AT draws a
+   * closed loop around each noise bump, whose inside is a tiny region.
+   */
+  vtkSetMacro(MinimumRegionSize, int);
+  vtkGetMacro(MinimumRegionSize, int);
+  ///@}
+
+  ///@{
+  /**
+   * How far, in face steps, a band face looks past the first region face it
+   * meets (>= 0, default 3): the local planes are fitted to the region faces
+   * found that far.
+   */
+  vtkSetMacro(SearchDepth, int);
+  vtkGetMacro(SearchDepth, int);
+  ///@}
+
+  ///@{
+  /**
+   * A band face's position, compared with the local planes, is the mean
+   * centre of the faces within this many face steps (>= 0, default 0: the face alone;
+   * one voxel's staircase and noise move the decision less.
+   */
+  vtkSetMacro(PositionDepth, int);
+  vtkGetMacro(PositionDepth, int);
+  ///@}
+
+  ///@{
+  /**
+   * Majority votes over the band faces' sides (SmoothingPasses >= 0,
+   * default 2), each face taking the side most faces within SmoothingDepth
+   * face steps (>= 1, default 2) are on: noise moves single faces to the
+   * wrong side, which would draw a wiggling line.
+   */
+  vtkSetMacro(SmoothingPasses, int);
+  vtkGetMacro(SmoothingPasses, int);
+  vtkSetMacro(SmoothingDepth, int);
+  vtkGetMacro(SmoothingDepth, int);
+  ///@}
+
+  ///@{
+  /**
+   * The local planes' normals: fitted to the region faces' centres (least
+   * squares, default on), or the mean of their input normals (off), which
+   * near the band still carry the input estimator's blend across the edge.
+   */
+  vtkSetMacro(FitPlanes, bool);
+  vtkGetMacro(FitPlanes, bool);
+  vtkBooleanMacro(FitPlanes, bool);
+  ///@}
+
+  ///@{
+  /**
+   * A fit is used only when its RMS residual is below FitResidual edge
+   * lengths (>= 0, default 0.3; a noise-free digital plane: about 0.3):
+   * on noisy surfaces the positions are too rough and the mean normal is
+   * kept.
+   */
+  vtkSetMacro(FitResidual, double);
+  vtkGetMacro(FitResidual, double);
+  ///@}
+
+  ///@{
+  /**
+   * How fast a growing region's reference normal follows its faces (in
+   * (0, 1], default 0.2): see RegionEdgeAngle.
+   */
+  vtkSetMacro(ReferenceWeight, double);
+  vtkGetMacro(ReferenceWeight, double);
+  ///@}
+
+  ///@{
+  /**
+   * Face steps added around AT's band before the regions are formed (>= 0,
+   * default 0): closes short gaps in the band.
+   */
+  vtkSetMacro(BandDilation, int);
+  vtkGetMacro(BandDilation, int);
+  ///@}
+
+  ///@{
+  /**
+   * Boundaries between regions with a mean normal jump below this angle
+   * (degrees, >= 0, default 15) are not features: the regions merge.
+   */
+  vtkSetMacro(MinimumFeatureAngle, double);
+  vtkGetMacro(MinimumFeatureAngle, double);
+  ///@}
+
+  ///@{
+  /**
+   * A region does not grow across an edge whose two faces' normals differ
+   * by more than this angle (degrees, > 0, default 10): where AT's band has a
+   * gap, the normal still turns over a few faces, and the two sides stay
+   * apart.
+   */
+  vtkSetMacro(RegionEdgeAngle, double);
+  vtkGetMacro(RegionEdgeAngle, double);
+  ///@}
+
+  /**
+   * Figures of the last execution: band faces, band faces that met no
+   * region (they keep their input normal), regions after merging.
+   */
+  vtkGetMacro(NumberOfBandFaces, vtkIdType);
+  vtkGetMacro(NumberOfUnassignedFaces, vtkIdType);
+  vtkGetMacro(NumberOfRegions, int);
+
+  vtkMTimeType GetMTime() override;
+
+protected:
+  vtkSharpFeaturesFilter();
+  ~vtkSharpFeaturesFilter() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  double FeatureThreshold = 0.5;
+  int MinimumRegionSize = 30;
+  int SearchDepth = 3;
+  int PositionDepth = 0;
+  int SmoothingPasses = 2;
+  int SmoothingDepth = 2;
+  bool FitPlanes = true;
+  double FitResidual = 0.3;
+  double ReferenceWeight = 0.2;
+  int BandDilation = 0;
+  double MinimumFeatureAngle = 15.0;
+  double RegionEdgeAngle = 10.0;
+  vtkIdType NumberOfBandFaces = 0;
+  vtkIdType NumberOfUnassignedFaces = 0;
+  int NumberOfRegions = 0;
+
+private:
+  struct Internals;
+  std::unique_ptr<Internals> Internal;
+
+  vtkSharpFeaturesFilter(const vtkSharpFeaturesFilter&) = delete;
+  void operator=(const vtkSharpFeaturesFilter&) = delete;
+};
+
+#endif
