@@ -77,6 +77,10 @@ int vtkDigitalIslandFilter::RequestData(
   {
     return this->Abort->Abort(outputVector);
   }
+  // An image output keeps its arrays from the last run unless told: after
+  // an error it must be empty, not the previous result.
+  output->GetPointData()->Initialize();
+  output->GetFieldData()->Initialize();
   if (this->MinimumSize < 1)
   {
     vtkErrorMacro("MinimumSize must be at least 1 voxel (it is " << this->MinimumSize

@@ -539,6 +539,20 @@ TEST(IslandFilter, BadInputGivesAnErrorAndNoOutput)
   // A good run after a bad one: no error.
   EXPECT_FALSE(run(ball, 8, errors, messages));
   EXPECT_EQ(errors, 0) << messages;
+
+  // A bad run after a good one on the same filter: the old result is gone.
+  vtkNew<vtkDigitalIslandFilter> f;
+  f->SetInputData(ball);
+  f->Update();
+  ASSERT_NE(f->GetOutput()->GetPointData()->GetScalars(), nullptr);
+  vtkNew<dgtest::ErrorObserver> obs;
+  obs->Observe(f);
+  obs->Observe(f->GetExecutive());
+  f->SetMinimumSize(0);
+  f->Update();
+  EXPECT_GE(obs->Errors, 1);
+  EXPECT_EQ(f->GetOutput()->GetPointData()->GetScalars(), nullptr);
+  EXPECT_EQ(f->GetOutput()->GetFieldData()->GetArray("RemovedIslands"), nullptr);
 }
 
 TEST(IslandFilter, WarnsWhenEverythingIsRemoved)
