@@ -36,8 +36,8 @@ struct IslandCounts
 /// now and then; when it returns false the function stops and returns false
 /// (the mask is then partly processed). The result does not depend on the
 /// number of threads.
-bool RemoveSmallComponents(std::vector<std::uint8_t>& mask, const int dims[3],
-  std::int64_t minimumSize, bool removeIslands, bool fillCavities, IslandCounts& counts,
+bool RemoveSmallComponents(std::uint8_t* mask, const int dims[3], std::int64_t minimumSize,
+  bool removeIslands, bool fillCavities, IslandCounts& counts,
   const std::function<bool(double)>& progress = {});
 
 /// Sizes of the 6-connected components of the voxels equal to value (0 or

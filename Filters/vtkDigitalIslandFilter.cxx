@@ -16,7 +16,6 @@
 #include <vtkUnsignedCharArray.h>
 
 #include <algorithm>
-#include <cstring>
 
 vtkStandardNewMacro(vtkDigitalIslandFilter);
 
@@ -99,12 +98,16 @@ int vtkDigitalIslandFilter::RequestData(
   }
   const dg::VoxelSelection select{ this->SelectionMode, this->LowerThreshold,
     this->UpperThreshold, this->Label, this->SelectedComponent };
-  std::vector<std::uint8_t> inside(static_cast<std::size_t>(dims[0]) * dims[1] * dims[2]);
+  // The selection is made and cleaned in the output array itself.
+  vtkNew<vtkUnsignedCharArray> values;
+  values->SetName("Inside");
+  values->SetNumberOfValues(static_cast<vtkIdType>(dims[0]) * dims[1] * dims[2]);
+  std::uint8_t* inside = values->GetPointer(0);
   std::int64_t insideCount = 0;
   std::string error;
   if (!dg::SelectVoxels(dg::SelectionArray(this->GetInputArrayToProcess(0, inputVector),
                           this->GetInputArrayInformation(0), input),
-        dims, select, inside.data(), dims[0], 0, insideCount, error))
+        dims, select, inside, dims[0], 0, insideCount, error))
   {
     vtkErrorMacro("Cannot select voxels: " << error << ".");
     return 0;
@@ -135,10 +138,6 @@ int vtkDigitalIslandFilter::RequestData(
   }
 
   output->CopyStructure(input);
-  vtkNew<vtkUnsignedCharArray> values;
-  values->SetName("Inside");
-  values->SetNumberOfValues(static_cast<vtkIdType>(inside.size()));
-  std::memcpy(values->GetPointer(0), inside.data(), inside.size());
   output->GetPointData()->SetScalars(values);
   const auto addCount = [output](const char* name, vtkIdType n) {
     vtkNew<vtkIntArray> a;

@@ -173,9 +173,11 @@ TEST(IslandFilter, MatchesBruteForceOnRandomVoxels)
     double P;
   };
   // Dense, sparse and near-percolation sets; a one-voxel-thick image (no
-  // cavity there: every voxel is on the border).
+  // cavity there: every voxel is on the border); nearly full and nearly
+  // empty wide rows (long runs, skipped eight voxels at a time).
   const Case cases[] = { { { 13, 11, 9 }, 0.3 }, { { 10, 12, 14 }, 0.5 }, { { 9, 9, 12 }, 0.75 },
-    { { 17, 5, 3 }, 0.6 }, { { 14, 12, 1 }, 0.55 } };
+    { { 17, 5, 3 }, 0.6 }, { { 14, 12, 1 }, 0.55 }, { { 45, 9, 8 }, 0.97 },
+    { { 43, 8, 7 }, 0.04 } };
   int tried = 0, changedSome = 0;
   for (const auto& c : cases)
   {
@@ -211,7 +213,7 @@ TEST(IslandFilter, MatchesBruteForceOnRandomVoxels)
       }
     }
   }
-  EXPECT_EQ(tried, 5 * 3 * 7 * 4);
+  EXPECT_EQ(tried, 7 * 3 * 7 * 4);
   EXPECT_GT(changedSome, tried / 3); // the cases do exercise both passes
 }
 
