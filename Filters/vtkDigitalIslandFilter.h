@@ -27,6 +27,9 @@
  * is built against by default) does not have. The labelling is run-length
  * union-find (dgIslands.h): a few words of memory per run of voxels along x.
  *
+ * A one-voxel-thick image is accepted: its components are 4-connected in
+ * the slice, and it has no cavity, every voxel being on the border.
+ *
  * Islands are removed first and cavities are found in the result, so that a
  * speck inside a small cavity does not leave a hole once the cavity is
  * filled. The output has no island and no cavity smaller than MinimumSize:
