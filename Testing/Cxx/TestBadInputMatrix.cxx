@@ -11,6 +11,7 @@
 #include "dgVolFormat.h"
 #include "vtkAmbrosioTortorelliFilter.h"
 #include "vtkDGtalVolReader.h"
+#include "vtkDigitalIslandFilter.h"
 #include "vtkDigitalSurfaceFilter.h"
 #include "vtkIINormalEstimator.h"
 
@@ -123,6 +124,19 @@ Outcome Surface(vtkImageData* image, const std::function<void(vtkDigitalSurfaceF
   }
   f->SetInputData(image);
   return Run(f);
+}
+
+Outcome Island(vtkImageData* image, const std::function<void(vtkDigitalIslandFilter*)>& set = {})
+{
+  vtkNew<vtkDigitalIslandFilter> f;
+  if (set)
+  {
+    set(f);
+  }
+  f->SetInputData(image);
+  Outcome o = Run(f);
+  o.ExpectedCells = image->GetNumberOfPoints();
+  return o;
 }
 
 Outcome II(vtkImageData* source, double radius, vtkImageData* surfaceOf = nullptr)
@@ -306,6 +320,77 @@ const Row Rows[] = {
           f->SetLabel(17);
         });
     } },
+  // vtkDigitalIslandFilter
+  { "IslandEmptyImage",
+    Expect::Error,
+    "empty",
+    []
+    {
+      vtkNew<vtkImageData> empty;
+      return Island(empty);
+    } },
+  { "IslandNoScalars",
+    Expect::Error,
+    "scalars",
+    []
+    {
+      vtkNew<vtkImageData> image;
+      image->SetDimensions(4, 4, 4);
+      return Island(image);
+    } },
+  { "IslandThreeComponentScalars",
+    Expect::Error,
+    "SelectedComponent",
+    []
+    {
+      vtkNew<vtkImageData> image;
+      image->SetDimensions(4, 4, 4);
+      image->AllocateScalars(VTK_FLOAT, 3);
+      image->GetPointData()->GetScalars()->Fill(1.0);
+      return Island(image);
+    } },
+  { "IslandNaNScalars",
+    Expect::Error,
+    "NaN",
+    []
+    {
+      return Island(dgtest::MakeImage(
+        5, 5, 5, [](int i, int, int) { return i == 2 ? std::nan("") : 1.0; }, VTK_FLOAT));
+    } },
+  { "IslandMinimumSizeZero",
+    Expect::Error,
+    "MinimumSize",
+    [] { return Island(Block(8), [](vtkDigitalIslandFilter* f) { f->SetMinimumSize(0); }); } },
+  { "IslandMinimumSizeNegative",
+    Expect::Error,
+    "MinimumSize",
+    [] { return Island(Block(8), [](vtkDigitalIslandFilter* f) { f->SetMinimumSize(-5); }); } },
+  { "IslandEmptyRange",
+    Expect::Error,
+    "range",
+    []
+    {
+      return Island(Block(8),
+        [](vtkDigitalIslandFilter* f)
+        {
+          f->SetSelectionModeToRange();
+          f->SetLowerThreshold(3);
+          f->SetUpperThreshold(2);
+        });
+    } },
+  { "IslandRemovesEverything",
+    Expect::Warning,
+    "MinimumSize",
+    [] { return Island(Block(4), [](vtkDigitalIslandFilter* f) { f->SetMinimumSize(9); }); } },
+  { "IslandSelectionMatchesNothing",
+    Expect::Result,
+    "",
+    [] { return Island(dgtest::MakeImage(5, 5, 5, [](int, int, int) { return 0.0; })); } },
+  { "IslandFlatImage",
+    Expect::Result,
+    "",
+    [] { return Island(dgtest::MakeImage(8, 8, 1, [](int i, int, int) { return i > 2; })); } },
+  { "IslandGood", Expect::Result, "", [] { return Island(Block(12)); } },
   // vtkIINormalEstimator
   { "IIWithoutImage", Expect::Error, "SetSource", [] { return II(nullptr, 3); } },
   { "IIImageDoesNotMatch",

@@ -1,5 +1,5 @@
 // Abort as a ParaView user meets it: aborting any stage of reader -> noise
-// -> digital surface -> II -> AT from a progress observer stops it with
+// -> islands -> digital surface -> II -> AT from a progress observer stops it with
 // empty outputs and no error anywhere in the pipeline (not the executive's
 // "returned failure"), leaves no stale output downstream, and the next
 // Update recomputes to the result of a run that was never aborted. Also how
@@ -10,6 +10,7 @@
 #include "dgVolFormat.h"
 #include "vtkAmbrosioTortorelliFilter.h"
 #include "vtkDGtalVolReader.h"
+#include "vtkDigitalIslandFilter.h"
 #include "vtkDigitalNoiseFilter.h"
 #include "vtkDigitalSurfaceFilter.h"
 #include "vtkIINormalEstimator.h"
@@ -58,6 +59,7 @@ struct Pipeline
 {
   vtkNew<vtkDGtalVolReader> Reader;
   vtkNew<vtkDigitalNoiseFilter> Noise;
+  vtkNew<vtkDigitalIslandFilter> Islands;
   vtkNew<vtkDigitalSurfaceFilter> Surface;
   vtkNew<vtkIINormalEstimator> II;
   vtkNew<vtkAmbrosioTortorelliFilter> AT;
@@ -68,9 +70,10 @@ struct Pipeline
     this->Reader->SetFileName(vol.c_str());
     this->Noise->SetInputConnection(this->Reader->GetOutputPort());
     this->Noise->SetNoiseLevel(0.2);
-    this->Surface->SetInputConnection(this->Noise->GetOutputPort());
+    this->Islands->SetInputConnection(this->Noise->GetOutputPort());
+    this->Surface->SetInputConnection(this->Islands->GetOutputPort());
     this->II->SetInputConnection(this->Surface->GetOutputPort());
-    this->II->SetSourceConnection(this->Noise->GetOutputPort());
+    this->II->SetSourceConnection(this->Islands->GetOutputPort());
     this->AT->SetInputConnection(this->II->GetOutputPort());
     for (vtkAlgorithm* a : this->Stages())
     {
@@ -80,7 +83,7 @@ struct Pipeline
   }
   std::vector<vtkAlgorithm*> Stages()
   {
-    return { this->Reader, this->Noise, this->Surface, this->II, this->AT };
+    return { this->Reader, this->Noise, this->Islands, this->Surface, this->II, this->AT };
   }
 };
 
@@ -128,8 +131,9 @@ TEST(PipelineAbort, EveryStageAbortsCleanlyAndRecomputes)
   ASSERT_EQ(reference.Messages->Errors + reference.Messages->Warnings, 0)
     << reference.Messages->Messages;
 
-  const char* names[] = { "reader", "noise", "surface", "II", "AT" };
-  for (int stage = 0; stage < 5; ++stage)
+  const char* names[] = { "reader", "noise", "islands", "surface", "II", "AT" };
+  const int stages = 6;
+  for (int stage = 0; stage < stages; ++stage)
   {
     SCOPED_TRACE(names[stage]);
     Pipeline p(vol);
@@ -146,7 +150,7 @@ TEST(PipelineAbort, EveryStageAbortsCleanlyAndRecomputes)
     p.AT->Update();
     EXPECT_EQ(aborter->Aborts, 1);
     EXPECT_EQ(p.Messages->Errors, 0) << p.Messages->Messages;
-    for (int s = stage; s < 5; ++s)
+    for (int s = stage; s < stages; ++s)
     {
       for (int port = 0; port < p.Stages()[s]->GetNumberOfOutputPorts(); ++port)
       {
@@ -173,8 +177,8 @@ TEST(PipelineAbort, ProgressIsFineGrained)
 {
   const std::string vol = WriteCubeVol(96);
   Pipeline p(vol);
-  std::vector<vtkNew<Aborter>> counters(5);
-  for (int s = 0; s < 5; ++s)
+  std::vector<vtkNew<Aborter>> counters(6);
+  for (int s = 0; s < 6; ++s)
   {
     p.Stages()[s]->AddObserver(vtkCommand::ProgressEvent, counters[s]);
   }
@@ -187,9 +191,10 @@ TEST(PipelineAbort, ProgressIsFineGrained)
   auto inner = [](const std::set<double>& v) {
     return std::count_if(v.begin(), v.end(), [](double x) { return x > 0 && x < 1; });
   };
-  EXPECT_GE(inner(counters[3]->Values), std::min<vtkIdType>(100, surfels / 2000));
-  EXPECT_GE(inner(counters[4]->Values), p.AT->GetNumberOfIterations());
-  EXPECT_GE(inner(counters[2]->Values), 5); // surface
+  EXPECT_GE(inner(counters[4]->Values), std::min<vtkIdType>(100, surfels / 2000));
+  EXPECT_GE(inner(counters[5]->Values), p.AT->GetNumberOfIterations());
+  EXPECT_GE(inner(counters[3]->Values), 5); // surface
+  EXPECT_GE(inner(counters[2]->Values), 10); // islands
   EXPECT_GE(inner(counters[1]->Values), 3); // noise
   EXPECT_GE(inner(counters[0]->Values), 1); // reader (one zlib piece at this size)
 }

@@ -85,6 +85,39 @@ noisy.UpdatePipeline()
 n_noisy = servermanager.Fetch(noisy).GetNumberOfCells()
 check(n_noisy > n_plugin, "noise adds surfels (%d > %d)" % (n_noisy, n_plugin))
 
+# Digital Islands between the noise and the surface: fewer surfels, the same
+# voxels as the class called directly.
+check("DigitalIslands" in globals(), "Digital Islands available")
+islands = DigitalIslands(Input=noise)
+islands.MinimumSize = 4
+cleaned = DigitalSurface(Input=islands)
+cleaned.UpdatePipeline()
+n_cleaned = servermanager.Fetch(cleaned).GetNumberOfCells()
+check(n_plugin < n_cleaned < n_noisy,
+      "islands removed: %d surfels (noisy %d, clean %d)" % (n_cleaned, n_noisy, n_plugin))
+from digitalgeometry import vtkDigitalNoiseFilter, vtkDigitalIslandFilter  # noqa: E402
+
+vn = vtkDigitalNoiseFilter()
+vn.SetInputConnection(vr.GetOutputPort())
+vn.SetNoiseLevel(0.3)
+vn.SetSeed(7)
+vi = vtkDigitalIslandFilter()
+vi.SetInputConnection(vn.GetOutputPort())
+vi.SetMinimumSize(4)
+vi.Update()
+plugin_islands = servermanager.Fetch(islands)
+a, b = plugin_islands.GetPointData().GetScalars(), vi.GetOutput().GetPointData().GetScalars()
+same = (a is not None and b is not None and a.GetNumberOfTuples() == b.GetNumberOfTuples()
+        and all(a.GetValue(v) == b.GetValue(v) for v in range(a.GetNumberOfTuples())))
+check(same and vi.GetNumberOfRemovedIslands() > 0,
+      "plugin islands equal the class's (%d islands removed, %d cavities filled)"
+      % (vi.GetNumberOfRemovedIslands(), vi.GetNumberOfFilledCavities()))
+fd = plugin_islands.GetFieldData().GetArray("RemovedIslands")
+check(fd is not None and fd.GetValue(0) == vi.GetNumberOfRemovedIslands(),
+      "RemovedIslands in the output's field data")
+Delete(cleaned)
+Delete(islands)
+
 # II normals and Ambrosio-Tortorelli through the plugin, against the classes.
 check("IINormalEstimator" in globals() and "AmbrosioTortorelli" in globals(),
       "II and AT filters available")
