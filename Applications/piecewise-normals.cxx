@@ -4,10 +4,7 @@
 #include "dgBuiltinShape.h"
 #include "dgImageInput.h"
 #include "dgRender.h"
-#include "vtkAmbrosioTortorelliFilter.h"
-#include "vtkDigitalNoiseFilter.h"
-#include "vtkDigitalSurfaceFilter.h"
-#include "vtkIINormalEstimator.h"
+#include "dgPipeline.h"
 
 #include <vtkCellData.h>
 #include <vtkCommand.h>
@@ -45,20 +42,8 @@ struct Options
   std::string OutputDir = ".";
   std::string Prefix;
   int BuiltinSize = 96;
-  // Selection of inside voxels.
-  int SelectionMode = vtkDigitalSurfaceFilter::NON_ZERO;
-  double Lower = 1, Upper = VTK_DOUBLE_MAX, Label = 1;
-  // Noise (MATH.md section 7).
-  double Noise = 0;
-  int Seed = 0;
-  // Integral invariant.
-  double Radius = 4;
-  bool Curvatures = false;
-  // Ambrosio-Tortorelli (paper defaults).
-  double Alpha = 0.1, Lambda = 0.01, EpsStart = 2, EpsEnd = 0.25, EpsRatio = 2;
-  int Iterations = 5;
-  double Tolerance = 1e-4, FeatureThreshold = 0.5;
-  int Solver = vtkAmbrosioTortorelliFilter::CONJUGATE_GRADIENT_IC;
+  // Everything from the selection to the sharp features (dgPipeline.h).
+  dg::PipelineSettings P;
   // Outputs.
   bool Png = true, Panels = false, Ply = false, Obj = false, Quiet = false;
   int Width = 1200, Height = 900;
@@ -84,12 +69,19 @@ Inside voxels (default: value != 0)
 Noise (the paper's model: flip with probability k^(1 + distance to boundary))
   --noise K              noise level k in [0, 1] (default 0: none)
   --seed S               random seed (default 0)
+Before the surface
+  --min-component N      drop inside components and fill cavities smaller than
+                         N voxels (default 8: the paper's noise leaves specks of
+                         1-7 voxels; 0 keeps everything)
 Integral-invariant normals
   --radius R             ball radius in voxels (default 4)
   --curvatures           also output mean, Gaussian and principal curvatures
 Ambrosio-Tortorelli (lengths in voxels: the metric is the identity)
-  --alpha A              data attachment weight (default 0.1; larger = closer to input)
-  --lambda L             length penalty of the features (default 0.01; larger = fewer features)
+  --alpha A              data attachment weight (default 0.05, the paper's Fig. 5;
+                         larger = closer to the input)
+  --lambda L             length penalty of the features (default 0.005, half the
+                         paper's 0.01: the sharp-features stage removes AT's extra
+                         lines; larger = fewer features)
   --eps-start E          initial epsilon, width of the feature zone (default 2)
   --eps-end E            final epsilon (default 0.25)
   --eps-ratio R          epsilon divisor between levels, > 1 (default 2)
@@ -98,6 +90,9 @@ Ambrosio-Tortorelli (lengths in voxels: the metric is the identity)
   --feature-threshold T  an edge is a feature when v < T at both ends (default 0.5)
   --solver S             linear solver: ic (default; CG with incomplete Cholesky),
                          cg (CG with Jacobi), ldlt (exact, 5-7x slower), cholmod
+Sharp features (after AT: one line per sharp edge, side normals up to it)
+  --plain                the paper's own output instead: AT's normals and its
+                         feature edges (a band of ladders along each edge)
 Outputs (in --output-dir, named PREFIX_*; PREFIX defaults to the input's name)
   --output-dir DIR       default: current directory (created if missing)
   --prefix NAME          file name prefix
@@ -110,9 +105,10 @@ Outputs (in --output-dir, named PREFIX_*; PREFIX defaults to the input's name)
   --quiet                no progress bar
   -h, --help             this help
 
-Writes PREFIX_surface.vtp (cell data: ATNormals, IINormals, trivial Normals;
-point data: v), PREFIX_features.vtp (feature edges as lines, with v) and
-PREFIX.png. Exit status 0 on success, 1 on bad input, 2 on bad options.
+Writes PREFIX_surface.vtp (cell data: SharpNormals (active), FeatureRegion,
+ATNormals, IINormals, trivial Normals; point data: v = ATFeatureIndicator),
+PREFIX_features.vtp (the feature lines, with FeatureAngle in degrees; with
+--plain: AT's feature edges, with v) and PREFIX.png. Exit status 0 on success, 1 on bad input, 2 on bad options.
 )";
 }
 
@@ -160,55 +156,64 @@ Options ParseOptions(int argc, char* argv[])
       o.BuiltinSize = static_cast<int>(number());
     else if (arg == "--label")
     {
-      o.SelectionMode = vtkDigitalSurfaceFilter::LABEL;
-      o.Label = number();
+      o.P.SelectionMode = vtkDigitalSurfaceFilter::LABEL;
+      o.P.Label = number();
     }
     else if (arg == "--range")
     {
-      o.SelectionMode = vtkDigitalSurfaceFilter::RANGE;
-      o.Lower = number();
-      o.Upper = number();
+      o.P.SelectionMode = vtkDigitalSurfaceFilter::RANGE;
+      o.P.Lower = number();
+      o.P.Upper = number();
     }
     else if (arg == "--noise")
-      o.Noise = number();
+      o.P.Noise = number();
     else if (arg == "--seed")
     {
       const double s = number();
       if (s < 0 || s > 2147483647.0 || s != std::floor(s))
         OptionError("--seed expects an integer in [0, 2^31 - 1]");
-      o.Seed = static_cast<int>(s);
+      o.P.Seed = static_cast<int>(s);
     }
+    else if (arg == "--min-component")
+    {
+      const double n = number();
+      if (n < 0 || n > 2147483647.0 || n != std::floor(n))
+        OptionError("--min-component expects an integer >= 0");
+      o.P.MinimumComponentSize = static_cast<int>(n);
+    }
+    else if (arg == "--plain")
+      o.P.Sharpen = false;
     else if (arg == "--radius")
-      o.Radius = number();
+      o.P.Radius = number();
     else if (arg == "--curvatures")
-      o.Curvatures = true;
+      o.P.Curvatures = true;
     else if (arg == "--alpha")
-      o.Alpha = number();
+      o.P.Alpha = number();
     else if (arg == "--lambda")
-      o.Lambda = number();
+      o.P.Lambda = number();
     else if (arg == "--eps-start")
-      o.EpsStart = number();
+      o.P.EpsStart = number();
     else if (arg == "--eps-end")
-      o.EpsEnd = number();
+      o.P.EpsEnd = number();
     else if (arg == "--eps-ratio")
-      o.EpsRatio = number();
+      o.P.EpsRatio = number();
     else if (arg == "--iterations")
-      o.Iterations = static_cast<int>(number());
+      o.P.Iterations = static_cast<int>(number());
     else if (arg == "--tolerance")
-      o.Tolerance = number();
+      o.P.Tolerance = number();
     else if (arg == "--feature-threshold")
-      o.FeatureThreshold = number();
+      o.P.FeatureThreshold = number();
     else if (arg == "--solver")
     {
       const std::string v = value();
       if (v == "ic")
-        o.Solver = vtkAmbrosioTortorelliFilter::CONJUGATE_GRADIENT_IC;
+        o.P.Solver = vtkAmbrosioTortorelliFilter::CONJUGATE_GRADIENT_IC;
       else if (v == "cg")
-        o.Solver = vtkAmbrosioTortorelliFilter::CONJUGATE_GRADIENT;
+        o.P.Solver = vtkAmbrosioTortorelliFilter::CONJUGATE_GRADIENT;
       else if (v == "ldlt")
-        o.Solver = vtkAmbrosioTortorelliFilter::SIMPLICIAL_LDLT;
+        o.P.Solver = vtkAmbrosioTortorelliFilter::SIMPLICIAL_LDLT;
       else if (v == "cholmod")
-        o.Solver = vtkAmbrosioTortorelliFilter::CHOLMOD;
+        o.P.Solver = vtkAmbrosioTortorelliFilter::CHOLMOD;
       else
         OptionError("--solver expects ic, cg, ldlt or cholmod (got '" + v + "')");
     }
@@ -236,25 +241,25 @@ Options ParseOptions(int argc, char* argv[])
   // Nonsensical parameters are refused here, with the option's name.
   if (o.BuiltinSize < 16 || o.BuiltinSize > 1024)
     OptionError("--size must be in [16, 1024]");
-  if (o.SelectionMode == vtkDigitalSurfaceFilter::RANGE && !(o.Lower <= o.Upper))
+  if (o.P.SelectionMode == vtkDigitalSurfaceFilter::RANGE && !(o.P.Lower <= o.P.Upper))
     OptionError("--range needs LO <= HI");
-  if (o.Noise < 0 || o.Noise > 1)
+  if (o.P.Noise < 0 || o.P.Noise > 1)
     OptionError("--noise must be in [0, 1]");
-  if (!(o.Radius > 0))
+  if (!(o.P.Radius > 0))
     OptionError("--radius must be > 0");
-  if (!(o.Alpha > 0))
+  if (!(o.P.Alpha > 0))
     OptionError("--alpha must be > 0");
-  if (!(o.Lambda > 0))
+  if (!(o.P.Lambda > 0))
     OptionError("--lambda must be > 0");
-  if (!(o.EpsEnd > 0) || !(o.EpsStart >= o.EpsEnd))
+  if (!(o.P.EpsEnd > 0) || !(o.P.EpsStart >= o.P.EpsEnd))
     OptionError("epsilons need 0 < --eps-end <= --eps-start");
-  if (!(o.EpsRatio > 1))
+  if (!(o.P.EpsRatio > 1))
     OptionError("--eps-ratio must be > 1");
-  if (o.Iterations < 1)
+  if (o.P.Iterations < 1)
     OptionError("--iterations must be >= 1");
-  if (!(o.Tolerance > 0))
+  if (!(o.P.Tolerance > 0))
     OptionError("--tolerance must be > 0");
-  if (!(o.FeatureThreshold > 0 && o.FeatureThreshold < 1))
+  if (!(o.P.FeatureThreshold > 0 && o.P.FeatureThreshold < 1))
     OptionError("--feature-threshold must be in (0, 1)");
   if (o.Width < 64 || o.Height < 64 || o.Width > 8192 || o.Height > 8192)
     OptionError("--width and --height must be in [64, 8192]");
@@ -432,81 +437,21 @@ int main(int argc, char* argv[])
   }
   lap("read");
 
-  vtkSmartPointer<vtkAlgorithm> source;
-  vtkNew<vtkDigitalNoiseFilter> noise;
-  vtkNew<vtkDigitalSurfaceFilter> surface;
-  surface->SetSelectionMode(opt.SelectionMode);
-  surface->SetLowerThreshold(opt.Lower);
-  surface->SetUpperThreshold(opt.Upper);
-  surface->SetLabel(opt.Label);
-  vtkSmartPointer<vtkImageData> volume = image;
-  if (opt.Noise > 0)
+  // 2. The pipeline, one stage at a time (progress bar, timings, errors).
+  dg::Pipeline pipeline;
+  pipeline.Build(image, opt.P);
+  for (const auto& stage : pipeline.Stages)
   {
-    watch(noise);
-    progress->Stage = "noise";
-    noise->SetInputData(image);
-    noise->SetSelectionMode(opt.SelectionMode);
-    noise->SetLowerThreshold(opt.Lower);
-    noise->SetUpperThreshold(opt.Upper);
-    noise->SetLabel(opt.Label);
-    noise->SetNoiseLevel(opt.Noise);
-    noise->SetSeed(opt.Seed);
-    noise->Update();
+    watch(stage.Algorithm);
+    progress->Stage = stage.Name;
+    stage.Algorithm->Update();
     if (errors->Failed)
       return Fail(errors->Message);
-    volume = noise->GetOutput();
-    // The noisy volume is already 0/1: select it as it is.
-    surface->SetSelectionModeToNonZero();
-    lap("noise");
+    lap(stage.Name);
   }
-
-  // 2. Digital surface.
-  watch(surface);
-  progress->Stage = "digital surface";
-  surface->SetInputData(volume);
-  surface->Update();
-  if (errors->Failed)
-    return Fail(errors->Message);
-  lap("surface");
-
-  // 3. Integral-invariant normals.
-  vtkNew<vtkIINormalEstimator> ii;
-  watch(ii);
-  progress->Stage = "II normals";
-  ii->SetInputConnection(surface->GetOutputPort());
-  ii->SetSourceData(volume);
-  ii->SetRadius(opt.Radius);
-  ii->SetComputeCurvatures(opt.Curvatures);
-  // The estimator must count the same voxels as inside as the surface did.
-  ii->SetSelectionMode(surface->GetSelectionMode());
-  ii->SetLowerThreshold(surface->GetLowerThreshold());
-  ii->SetUpperThreshold(surface->GetUpperThreshold());
-  ii->SetLabel(surface->GetLabel());
-  ii->Update();
-  if (errors->Failed)
-    return Fail(errors->Message);
-  lap("II normals");
-
-  // 4. Ambrosio-Tortorelli.
-  vtkNew<vtkAmbrosioTortorelliFilter> at;
-  watch(at);
-  progress->Stage = "Ambrosio-Tortorelli";
-  at->SetInputConnection(ii->GetOutputPort());
-  at->SetAlpha(opt.Alpha);
-  at->SetLambda(opt.Lambda);
-  at->SetEpsilonStart(opt.EpsStart);
-  at->SetEpsilonEnd(opt.EpsEnd);
-  at->SetEpsilonRatio(opt.EpsRatio);
-  at->SetMaximumIterations(opt.Iterations);
-  at->SetTolerance(opt.Tolerance);
-  at->SetFeatureThreshold(opt.FeatureThreshold);
-  at->SetLinearSolver(opt.Solver);
-  at->Update();
-  if (errors->Failed)
-    return Fail(errors->Message);
-  lap("Ambrosio-Tortorelli");
-  vtkPolyData* result = at->GetOutput(0);
-  vtkPolyData* features = at->GetOutput(1);
+  vtkPolyData* result = pipeline.Result();
+  vtkPolyData* features = pipeline.Features();
+  vtkImageData* volume = pipeline.Volume();
 
   // 5. Files.
   OutputFiles files;
@@ -579,8 +524,18 @@ int main(int argc, char* argv[])
   }
   std::cout << Program << ": " << (opt.Input.empty() ? "built-in shape" : opt.Input) << " "
             << dims[0] << "x" << dims[1] << "x" << dims[2] << ": "
-            << surface->GetOutput()->GetNumberOfPolys() << " surfels, "
-            << features->GetNumberOfLines() << " feature edges\n"
+            << pipeline.Surface->GetOutput()->GetNumberOfPolys() << " surfels, "
+            << features->GetNumberOfLines() << " feature edges";
+  if (opt.P.Sharpen)
+    std::cout << " (one line per edge; Ambrosio-Tortorelli alone: "
+              << pipeline.AT->GetOutput(1)->GetNumberOfLines() << ")";
+  std::cout << "\n";
+  if (opt.P.MinimumComponentSize > 1)
+    std::cout << "  removed " << pipeline.Islands->GetNumberOfRemovedIslands()
+              << " inside components and filled " << pipeline.Islands->GetNumberOfFilledCavities()
+              << " cavities smaller than " << opt.P.MinimumComponentSize << " voxels ("
+              << pipeline.Islands->GetNumberOfChangedVoxels() << " voxels)\n";
+  std::cout
             << "  time: " << stages.str() << " (total " << total << " s); peak memory "
             << static_cast<long>(PeakMemoryMiB()) << " MiB\n";
   for (const auto& f : files.Finals)

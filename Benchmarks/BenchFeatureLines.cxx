@@ -144,7 +144,7 @@ int main(int argc, char* argv[])
   double radius = 4, alpha = 0.05, lambda = 0.01, angle = 15;
   int depth = 5, minRegion = 30;
   double threshold = 0.5, edgeAngle = 10;
-  int islands = 8, position = 0, passes = 2, voteDepth = 2, dilation = 0, fit = 1;
+  int islands = 8, passes = 2, voteDepth = 2, fit = 1;
   double beta = 0.2, residual = 0.3;
   for (int a = 1; a + 1 < argc; a += 2)
   {
@@ -179,14 +179,10 @@ int main(int argc, char* argv[])
       depth = std::stoi(v);
     else if (k == "--min-region")
       minRegion = std::stoi(v);
-    else if (k == "--position")
-      position = std::stoi(v);
     else if (k == "--beta")
       beta = std::stod(v);
     else if (k == "--residual")
       residual = std::stod(v);
-    else if (k == "--dilation")
-      dilation = std::stoi(v);
     else if (k == "--fit")
       fit = std::stoi(v);
     else if (k == "--passes")
@@ -240,7 +236,6 @@ int main(int argc, char* argv[])
           sharp->SetSearchDepth(depth);
           sharp->SetSmoothingPasses(passes);
           sharp->SetSmoothingDepth(voteDepth);
-          sharp->SetPositionDepth(position);
           sharp->SetRegionEdgeAngle(edgeAngle);
           sharp->SetFeatureThreshold(threshold);
           sharp->SetMinimumRegionSize(minRegion);
@@ -248,7 +243,6 @@ int main(int argc, char* argv[])
           sharp->SetFitPlanes(fit != 0);
           sharp->SetFitResidual(residual);
           sharp->SetReferenceWeight(beta);
-          sharp->SetBandDilation(dilation);
           sharp->Update();
           const double s =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

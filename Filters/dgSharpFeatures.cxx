@@ -6,8 +6,6 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -222,7 +220,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
   for (std::int64_t id : connectivity)
     if (id < 0 || id >= numberOfPoints)
       return fail("a polygon refers to a point that does not exist");
-  if (par.MinimumRegionSize < 1 || par.SearchDepth < 0 || par.PositionDepth < 0 || par.SmoothingPasses < 0 || par.SmoothingDepth < 1 || par.MinimumSupport < 1 ||
+  if (par.MinimumRegionSize < 1 || par.SearchDepth < 0 || par.SmoothingPasses < 0 || par.SmoothingDepth < 1 || par.MinimumSupport < 1 ||
     !(par.MinimumFeatureAngle >= 0))
     return fail("invalid sharp-feature parameters");
   auto report = [&](double f) { return !progress || progress(f); };
@@ -273,24 +271,6 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
   for (std::int64_t f = 0; f < F; ++f)
     for (std::int64_t k = offsets[f]; k < offsets[f + 1] && !band[f]; ++k)
       band[f] = v[connectivity[k]] < par.FeatureThreshold;
-
-  // Dilation: short gaps in AT's band would let the two sides' regions join.
-  for (int pass = 0; pass < par.BandDilation; ++pass)
-  {
-    std::vector<char> next(band);
-    for (std::int64_t f = 0; f < F; ++f)
-    {
-      if (!band[f])
-        continue;
-      for (std::int64_t k = graph.FaceEdgePtr[f]; k < graph.FaceEdgePtr[f + 1]; ++k)
-      {
-        const std::int64_t e = graph.FaceEdges[k];
-        for (std::int64_t j = graph.EdgeFacePtr[e]; j < graph.EdgeFacePtr[e + 1]; ++j)
-          next[graph.EdgeFaces[j]] = 1;
-      }
-    }
-    band.swap(next);
-  }
 
   // 2. Regions: components of the non-band faces; small ones join the band.
   std::vector<int> region(F, -1);
@@ -373,24 +353,17 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       s.Queue.assign(1, { f0, 0 });
       s.Stamp[f0] = s.Current;
       s.Samples.clear();
-      int limit = std::max(MaximumDepth, par.PositionDepth);
-      Vec3 position;
-      int positionCount = 0;
+      int limit = MaximumDepth;
       for (std::size_t head = 0; head < s.Queue.size(); ++head)
       {
         const std::int64_t f = s.Queue[head].first;
         const int depth = s.Queue[head].second;
         if (depth > limit)
           break;
-        if (depth <= par.PositionDepth)
-        {
-          position += centre[f];
-          ++positionCount;
-        }
         if (region[f] >= 0)
         {
           if (s.Samples.empty())
-            limit = std::max(par.PositionDepth, std::min(limit, depth + par.SearchDepth));
+            limit = std::min(limit, depth + par.SearchDepth);
           auto it = std::find_if(s.Samples.begin(), s.Samples.end(),
             [&](const RegionSample& r) { return r.Region == region[f]; });
           if (it == s.Samples.end())
@@ -443,7 +416,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
           continue;
         const Vec3 n = r.NormalSum.Unit();
         const Vec3 c = r.CentroidSum * (1.0 / r.Count);
-        const double sd = n.Dot(position * (1.0 / positionCount) - c);
+        const double sd = n.Dot(centre[f0] - c);
         bool take = !chosen;
         if (chosen)
         {
@@ -545,40 +518,89 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
 
   // 4. Merge regions whose common boundary has a weak mean normal jump.
   const std::int64_t E = static_cast<std::int64_t>(graph.Edges.size());
-  // Each side's normals along the boundary are summed before the angle is
-  // taken: single faces' normals are noisy, their means are not.
-  struct Boundary
+  // A boundary's normal jump is the median over its edges of the angle
+  // between the two sides' local mean input normals (same-region faces
+  // within SearchDepth steps): single faces' normals are noisy, a mean over
+  // the whole boundary would cancel on a curved one, and the input normals
+  // are continuous across a false band on a smooth part, where two local
+  // plane fits a few faces apart are not.
+  struct BoundaryEdge
   {
-    Vec3 Low, High; // sums of the normals on the lower and higher region's side
-    std::int64_t Edges = 0;
+    std::int64_t A, B;
   };
-  std::map<std::pair<int, int>, Boundary> boundary;
+  std::vector<BoundaryEdge> boundaryEdges;
+  std::vector<char> onBoundary(F, 0);
   for (std::int64_t e = 0; e < E; ++e)
   {
     for (std::int64_t a = graph.EdgeFacePtr[e]; a < graph.EdgeFacePtr[e + 1]; ++a)
       for (std::int64_t b = a + 1; b < graph.EdgeFacePtr[e + 1]; ++b)
       {
-        std::int64_t fa = graph.EdgeFaces[a], fb = graph.EdgeFaces[b];
+        const std::int64_t fa = graph.EdgeFaces[a], fb = graph.EdgeFaces[b];
         if (assigned[fa] < 0 || assigned[fb] < 0 || assigned[fa] == assigned[fb])
           continue;
-        if (assigned[fa] > assigned[fb])
-          std::swap(fa, fb);
-        auto& acc = boundary[{ assigned[fa], assigned[fb] }];
-        acc.Low += out[fa];
-        acc.High += out[fb];
-        ++acc.Edges;
+        boundaryEdges.push_back({ fa, fb });
+        onBoundary[fa] = onBoundary[fb] = 1;
       }
   }
-  if (std::getenv("DG_DEBUG"))
+  std::vector<std::int64_t> boundaryFaces;
+  for (std::int64_t f = 0; f < F; ++f)
+    if (onBoundary[f])
+      boundaryFaces.push_back(f);
+  std::vector<Vec3> localMean(F);
+
+  vtkSMPTools::For(0, static_cast<std::int64_t>(boundaryFaces.size()), [&](std::int64_t b, std::int64_t e) {
+    SearchScratch& s = scratch.Local();
+    if (s.Stamp.empty())
+      s.Stamp.assign(F, 0);
+    for (std::int64_t i = b; i < e; ++i)
+    {
+      const std::int64_t f0 = boundaryFaces[i];
+      if (++s.Current == 0)
+      {
+        std::fill(s.Stamp.begin(), s.Stamp.end(), 0);
+        s.Current = 1;
+      }
+      s.Queue.assign(1, { f0, 0 });
+      s.Stamp[f0] = s.Current;
+      Vec3 sum;
+      for (std::size_t head = 0; head < s.Queue.size(); ++head)
+      {
+        const std::int64_t f = s.Queue[head].first;
+        const int depth = s.Queue[head].second;
+        sum += field[f];
+        if (depth == par.SearchDepth)
+          continue;
+        for (std::int64_t k = graph.FaceEdgePtr[f]; k < graph.FaceEdgePtr[f + 1]; ++k)
+        {
+          const std::int64_t ed = graph.FaceEdges[k];
+          for (std::int64_t j = graph.EdgeFacePtr[ed]; j < graph.EdgeFacePtr[ed + 1]; ++j)
+          {
+            const std::int64_t g = graph.EdgeFaces[j];
+            if (s.Stamp[g] != s.Current && assigned[g] == assigned[f0])
+            {
+              s.Stamp[g] = s.Current;
+              s.Queue.emplace_back(g, depth + 1);
+            }
+          }
+        }
+      }
+      localMean[f0] = sum;
+    }
+  });
+  std::map<std::pair<int, int>, std::vector<double>> boundary;
+  for (const auto& be : boundaryEdges)
   {
-    std::fprintf(stderr, "regions before merge %d, dissolved %d\n", regions, result.NumberOfDissolvedRegions);
-    for (const auto& b : boundary)
-      std::fprintf(stderr, "  boundary %d-%d: %lld edges, angle %.1f\n", b.first.first, b.first.second,
-        static_cast<long long>(b.second.Edges), AngleDegrees(b.second.Low, b.second.High));
+    const int ra = assigned[be.A], rb = assigned[be.B];
+    boundary[{ std::min(ra, rb), std::max(ra, rb) }].push_back(
+      AngleDegrees(localMean[be.A], localMean[be.B]));
   }
+  auto median = [](std::vector<double> a) {
+    std::nth_element(a.begin(), a.begin() + a.size() / 2, a.end());
+    return a[a.size() / 2];
+  };
   UnionFind uf(regions);
   for (const auto& b : boundary)
-    if (AngleDegrees(b.second.Low, b.second.High) < par.MinimumFeatureAngle)
+    if (median(b.second) < par.MinimumFeatureAngle)
       result.NumberOfMergedBoundaries += uf.Unite(b.first.first, b.first.second);
   // Renumber the merged regions in order of first appearance.
   std::vector<int> relabel(regions, -1);
@@ -594,6 +616,59 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
     if (r < 0)
       r = result.NumberOfRegions++;
     result.Region[f] = r;
+  }
+
+  // Piecewise smoothing: every face takes the mean normal of its own
+  // region's faces within NormalSmoothingDepth steps, which never reaches
+  // across a feature line. On a noisy surface AT's u keeps some of the
+  // noise (its data term); a short mean over one side removes most of it.
+  if (par.NormalSmoothingDepth > 0)
+  {
+    std::vector<Vec3> smooth(out);
+    vtkSMPTools::For(0, F, [&](std::int64_t b, std::int64_t e) {
+      SearchScratch& s = scratch.Local();
+      if (s.Stamp.empty())
+        s.Stamp.assign(F, 0);
+      for (std::int64_t f0 = b; f0 < e; ++f0)
+      {
+        const int r0 = result.Region[f0];
+        if (r0 < 0)
+          continue;
+        if (++s.Current == 0)
+        {
+          std::fill(s.Stamp.begin(), s.Stamp.end(), 0);
+          s.Current = 1;
+        }
+        s.Queue.assign(1, { f0, 0 });
+        s.Stamp[f0] = s.Current;
+        Vec3 sum;
+        for (std::size_t head = 0; head < s.Queue.size(); ++head)
+        {
+          const std::int64_t f = s.Queue[head].first;
+          const int depth = s.Queue[head].second;
+          sum += out[f];
+          if (depth == par.NormalSmoothingDepth)
+            continue;
+          for (std::int64_t k = graph.FaceEdgePtr[f]; k < graph.FaceEdgePtr[f + 1]; ++k)
+          {
+            const std::int64_t ed = graph.FaceEdges[k];
+            for (std::int64_t j = graph.EdgeFacePtr[ed]; j < graph.EdgeFacePtr[ed + 1]; ++j)
+            {
+              const std::int64_t g = graph.EdgeFaces[j];
+              if (s.Stamp[g] != s.Current && result.Region[g] == r0)
+              {
+                s.Stamp[g] = s.Current;
+                s.Queue.emplace_back(g, depth + 1);
+              }
+            }
+          }
+        }
+        const Vec3 m = sum.Unit();
+        if (m.Norm() > 0)
+          smooth[f0] = m;
+      }
+    });
+    out.swap(smooth);
   }
 
   // 5. Feature edges: between faces of different regions.

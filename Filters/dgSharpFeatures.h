@@ -43,15 +43,14 @@ namespace dg
 struct SharpFeatureParameters
 {
   double FeatureThreshold = 0.5; // v below it marks a band vertex
-  int BandDilation = 0;          // face steps added around the band
   int MinimumRegionSize = 30;    // faces; smaller regions join the band
-  int SearchDepth = 3;           // face steps beyond the first region face met
-  int PositionDepth = 0;         // the face's position: mean centre of the faces this close
+  int SearchDepth = 5;           // face steps beyond the first region face met (fits)
   int SmoothingPasses = 2;       // majority votes over the band's labels
   int SmoothingDepth = 2;        // face steps of the vote's neighbourhood
   bool FitPlanes = true;         // local planes fitted to positions (else mean normals)
   double FitResidual = 0.3;      // edge lengths: a fit with a larger RMS residual is not used
   int MinimumSupport = 3;        // region faces needed for a local plane
+  int NormalSmoothingDepth = 3;  // final mean over the face's own region (0 = none)
   double MinimumFeatureAngle = 15.0; // degrees; weaker boundaries are merged
   double ReferenceWeight = 0.2; // how fast a region's reference normal follows its faces
   double RegionEdgeAngle = 10.0; // degrees; a region does not grow across a larger jump

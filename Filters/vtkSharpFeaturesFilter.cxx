@@ -76,13 +76,12 @@ int vtkSharpFeaturesFilter::RequestData(
   par.FeatureThreshold = this->FeatureThreshold;
   par.MinimumRegionSize = this->MinimumRegionSize;
   par.SearchDepth = this->SearchDepth;
-  par.PositionDepth = this->PositionDepth;
+  par.NormalSmoothingDepth = this->NormalSmoothingDepth;
   par.SmoothingPasses = this->SmoothingPasses;
   par.SmoothingDepth = this->SmoothingDepth;
   par.FitPlanes = this->FitPlanes;
   par.FitResidual = this->FitResidual;
   par.ReferenceWeight = this->ReferenceWeight;
-  par.BandDilation = this->BandDilation;
   par.MinimumFeatureAngle = this->MinimumFeatureAngle;
   par.RegionEdgeAngle = this->RegionEdgeAngle;
   std::string problem;
@@ -92,8 +91,8 @@ int vtkSharpFeaturesFilter::RequestData(
     problem += " MinimumRegionSize must be >= 1.";
   if (par.SearchDepth < 0)
     problem += " SearchDepth must be >= 0.";
-  if (par.PositionDepth < 0)
-    problem += " PositionDepth must be >= 0.";
+  if (par.NormalSmoothingDepth < 0)
+    problem += " NormalSmoothingDepth must be >= 0.";
   if (par.SmoothingPasses < 0 || par.SmoothingDepth < 1)
     problem += " SmoothingPasses must be >= 0 and SmoothingDepth >= 1.";
   if (!(par.MinimumFeatureAngle >= 0 && par.MinimumFeatureAngle <= 180))
@@ -102,8 +101,6 @@ int vtkSharpFeaturesFilter::RequestData(
     problem += " FitResidual must be >= 0.";
   if (!(par.ReferenceWeight > 0 && par.ReferenceWeight <= 1))
     problem += " ReferenceWeight must be in (0, 1].";
-  if (par.BandDilation < 0)
-    problem += " BandDilation must be >= 0.";
   if (!(par.RegionEdgeAngle > 0 && par.RegionEdgeAngle <= 180))
     problem += " RegionEdgeAngle must be in (0, 180].";
   if (!problem.empty())
@@ -275,13 +272,12 @@ void vtkSharpFeaturesFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FeatureThreshold: " << this->FeatureThreshold << "\n";
   os << indent << "MinimumRegionSize: " << this->MinimumRegionSize << "\n";
   os << indent << "SearchDepth: " << this->SearchDepth << "\n";
-  os << indent << "PositionDepth: " << this->PositionDepth << "\n";
   os << indent << "SmoothingPasses: " << this->SmoothingPasses << "\n";
   os << indent << "SmoothingDepth: " << this->SmoothingDepth << "\n";
+  os << indent << "NormalSmoothingDepth: " << this->NormalSmoothingDepth << "\n";
   os << indent << "FitPlanes: " << (this->FitPlanes ? "On" : "Off") << "\n";
   os << indent << "FitResidual: " << this->FitResidual << "\n";
   os << indent << "ReferenceWeight: " << this->ReferenceWeight << "\n";
-  os << indent << "BandDilation: " << this->BandDilation << "\n";
   os << indent << "MinimumFeatureAngle: " << this->MinimumFeatureAngle << "\n";
   os << indent << "RegionEdgeAngle: " << this->RegionEdgeAngle << "\n";
   os << indent << "NumberOfBandFaces: " << this->NumberOfBandFaces << "\n";

@@ -81,16 +81,6 @@ public:
 
   ///@{
   /**
-   * A band face's position, compared with the local planes, is the mean
-   * centre of the faces within this many face steps (>= 0, default 0: the face alone;
-   * one voxel's staircase and noise move the decision less.
-   */
-  vtkSetMacro(PositionDepth, int);
-  vtkGetMacro(PositionDepth, int);
-  ///@}
-
-  ///@{
-  /**
    * Majority votes over the band faces' sides (SmoothingPasses >= 0,
    * default 2), each face taking the side most faces within SmoothingDepth
    * face steps (>= 1, default 2) are on: noise moves single faces to the
@@ -100,6 +90,17 @@ public:
   vtkGetMacro(SmoothingPasses, int);
   vtkSetMacro(SmoothingDepth, int);
   vtkGetMacro(SmoothingDepth, int);
+  ///@}
+
+  ///@{
+  /**
+   * At the end every face takes the mean normal of its own region's faces
+   * within this many face steps (>= 0, default 3; 0 = none): a mean that
+   * never reaches across a feature line, which removes most of the noise
+   * AT's data term keeps on noisy volumes.
+   */
+  vtkSetMacro(NormalSmoothingDepth, int);
+  vtkGetMacro(NormalSmoothingDepth, int);
   ///@}
 
   ///@{
@@ -133,14 +134,6 @@ public:
   vtkGetMacro(ReferenceWeight, double);
   ///@}
 
-  ///@{
-  /**
-   * Face steps added around AT's band before the regions are formed (>= 0,
-   * default 0): closes short gaps in the band.
-   */
-  vtkSetMacro(BandDilation, int);
-  vtkGetMacro(BandDilation, int);
-  ///@}
 
   ///@{
   /**
@@ -181,14 +174,13 @@ protected:
 
   double FeatureThreshold = 0.5;
   int MinimumRegionSize = 30;
-  int SearchDepth = 3;
-  int PositionDepth = 0;
+  int SearchDepth = 5;
   int SmoothingPasses = 2;
   int SmoothingDepth = 2;
   bool FitPlanes = true;
+  int NormalSmoothingDepth = 3;
   double FitResidual = 0.3;
   double ReferenceWeight = 0.2;
-  int BandDilation = 0;
   double MinimumFeatureAngle = 15.0;
   double RegionEdgeAngle = 10.0;
   vtkIdType NumberOfBandFaces = 0;

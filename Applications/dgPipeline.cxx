@@ -1,0 +1,106 @@
+#include "dgPipeline.h"
+
+namespace dg
+{
+
+void Pipeline::Build(vtkImageData* image, const PipelineSettings& s)
+{
+  this->Settings = s;
+  this->Input = image;
+  this->Stages.clear();
+  // The selection applies to the input; every stage after the noise or the
+  // island filter sees a 0/1 volume and selects it as it is.
+  int mode = s.SelectionMode;
+  vtkAlgorithmOutput* volume = nullptr;
+  if (s.Noise > 0)
+  {
+    this->Noise->SetInputData(image);
+    this->Noise->SetSelectionMode(mode);
+    this->Noise->SetLowerThreshold(s.Lower);
+    this->Noise->SetUpperThreshold(s.Upper);
+    this->Noise->SetLabel(s.Label);
+    this->Noise->SetNoiseLevel(s.Noise);
+    this->Noise->SetSeed(s.Seed);
+    volume = this->Noise->GetOutputPort();
+    mode = vtkDigitalSurfaceFilter::NON_ZERO;
+    this->Stages.push_back({ "noise", this->Noise });
+  }
+  if (s.MinimumComponentSize > 1)
+  {
+    if (volume)
+      this->Islands->SetInputConnection(volume);
+    else
+      this->Islands->SetInputData(image);
+    this->Islands->SetSelectionMode(mode);
+    this->Islands->SetLowerThreshold(s.Lower);
+    this->Islands->SetUpperThreshold(s.Upper);
+    this->Islands->SetLabel(s.Label);
+    this->Islands->SetMinimumSize(s.MinimumComponentSize);
+    volume = this->Islands->GetOutputPort();
+    mode = vtkDigitalSurfaceFilter::NON_ZERO;
+    this->Stages.push_back({ "islands", this->Islands });
+  }
+  if (volume)
+    this->Surface->SetInputConnection(volume);
+  else
+    this->Surface->SetInputData(image);
+  this->Surface->SetSelectionMode(mode);
+  this->Surface->SetLowerThreshold(s.Lower);
+  this->Surface->SetUpperThreshold(s.Upper);
+  this->Surface->SetLabel(s.Label);
+  this->Stages.push_back({ "digital surface", this->Surface });
+
+  this->II->SetInputConnection(this->Surface->GetOutputPort());
+  if (volume)
+    this->II->SetSourceConnection(volume);
+  else
+    this->II->SetSourceData(image);
+  this->II->SetRadius(s.Radius);
+  this->II->SetComputeCurvatures(s.Curvatures);
+  // The estimator must count the same voxels as inside as the surface did.
+  this->II->SetSelectionMode(this->Surface->GetSelectionMode());
+  this->II->SetLowerThreshold(s.Lower);
+  this->II->SetUpperThreshold(s.Upper);
+  this->II->SetLabel(s.Label);
+  this->Stages.push_back({ "II normals", this->II });
+
+  this->AT->SetInputConnection(this->II->GetOutputPort());
+  this->AT->SetAlpha(s.Alpha);
+  this->AT->SetLambda(s.Lambda);
+  this->AT->SetEpsilonStart(s.EpsStart);
+  this->AT->SetEpsilonEnd(s.EpsEnd);
+  this->AT->SetEpsilonRatio(s.EpsRatio);
+  this->AT->SetMaximumIterations(s.Iterations);
+  this->AT->SetTolerance(s.Tolerance);
+  this->AT->SetFeatureThreshold(s.FeatureThreshold);
+  this->AT->SetLinearSolver(s.Solver);
+  this->Stages.push_back({ "Ambrosio-Tortorelli", this->AT });
+
+  if (s.Sharpen)
+  {
+    this->Sharp->SetInputConnection(this->AT->GetOutputPort());
+    this->Sharp->SetFeatureThreshold(s.FeatureThreshold);
+    this->Stages.push_back({ "sharp features", this->Sharp });
+  }
+}
+
+vtkPolyData* Pipeline::Result()
+{
+  return this->Settings.Sharpen ? this->Sharp->GetOutput(0) : this->AT->GetOutput(0);
+}
+
+vtkPolyData* Pipeline::Features()
+{
+  return this->Settings.Sharpen ? this->Sharp->GetOutput(1) : this->AT->GetOutput(1);
+}
+
+vtkImageData* Pipeline::Volume()
+{
+  if (this->Settings.MinimumComponentSize > 1)
+    return this->Islands->GetOutput();
+  if (this->Settings.Noise > 0)
+    return this->Noise->GetOutput();
+  return this->Input;
+}
+
+} // namespace dg

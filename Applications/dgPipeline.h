@@ -1,0 +1,91 @@
+// The program's pipeline and its defaults, in one place so that the tests
+// run exactly what piecewise-normals runs:
+//   volume -> [noise] -> islands and cavities removed -> digital surface ->
+//   II normals -> Ambrosio-Tortorelli -> sharp features (one line per edge)
+// Build() only connects the stages; the caller updates them (the program one
+// stage at a time, for its progress bar and timings).
+#ifndef dgPipeline_h
+#define dgPipeline_h
+
+#include "vtkAmbrosioTortorelliFilter.h"
+#include "vtkDigitalIslandFilter.h"
+#include "vtkDigitalNoiseFilter.h"
+#include "vtkDigitalSurfaceFilter.h"
+#include "vtkIINormalEstimator.h"
+#include "vtkSharpFeaturesFilter.h"
+
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPolyData.h>
+
+#include <string>
+#include <vector>
+
+namespace dg
+{
+
+struct PipelineSettings
+{
+  // Inside voxels.
+  int SelectionMode = vtkDigitalSurfaceFilter::NON_ZERO;
+  double Lower = 1, Upper = VTK_DOUBLE_MAX, Label = 1;
+  // The paper's noise model (MATH.md section 7); 0 = none.
+  double Noise = 0;
+  int Seed = 0;
+  // Inside components and cavities smaller than this many voxels are
+  // removed before the surface is built (docs/islands.md); 0 = keep all.
+  int MinimumComponentSize = 8;
+  // Integral invariant.
+  double Radius = 4;
+  bool Curvatures = false;
+  // Ambrosio-Tortorelli. Alpha is the paper's Figure 5 value; Lambda is half
+  // the paper's 0.01: the sharp-features stage removes AT's extra lines, and
+  // a generous AT closes the bands along shallow edges
+  // (docs/sharp-features.md).
+  double Alpha = 0.05, Lambda = 0.005, EpsStart = 2, EpsEnd = 0.25, EpsRatio = 2;
+  int Iterations = 5;
+  double Tolerance = 1e-4, FeatureThreshold = 0.5;
+  int Solver = vtkAmbrosioTortorelliFilter::CONJUGATE_GRADIENT_IC;
+  // One line per sharp edge and side normals (vtkSharpFeaturesFilter); off
+  // gives the paper's own output (AT's lines and normals).
+  bool Sharpen = true;
+};
+
+class Pipeline
+{
+public:
+  /// Connects the stages for `image` with `settings` (nothing runs).
+  void Build(vtkImageData* image, const PipelineSettings& settings);
+
+  struct Stage
+  {
+    std::string Name;
+    vtkAlgorithm* Algorithm;
+  };
+  /// The stages in execution order (only those in use).
+  std::vector<Stage> Stages;
+
+  /// After the last stage ran: the surface with all normal fields (the
+  /// final ones active) and the feature lines.
+  vtkPolyData* Result();
+  vtkPolyData* Features();
+  /// The voxels the surface was built from (after noise and islands).
+  vtkImageData* Volume();
+  /// Name of the final normal field ("SharpNormals" or "ATNormals").
+  const char* NormalsName() const { return this->Settings.Sharpen ? "SharpNormals" : "ATNormals"; }
+
+  vtkNew<vtkDigitalNoiseFilter> Noise;
+  vtkNew<vtkDigitalIslandFilter> Islands;
+  vtkNew<vtkDigitalSurfaceFilter> Surface;
+  vtkNew<vtkIINormalEstimator> II;
+  vtkNew<vtkAmbrosioTortorelliFilter> AT;
+  vtkNew<vtkSharpFeaturesFilter> Sharp;
+
+private:
+  PipelineSettings Settings;
+  vtkImageData* Input = nullptr;
+};
+
+} // namespace dg
+
+#endif
