@@ -183,6 +183,38 @@ if exact_u is not None and ref_u is not None:
 else:
     check(False, "LDLt run gives ATNormals")
 
+# Sharp Features after AT (back on the default solver): the same lines and
+# normals as the class on the C++ pipeline, fewer lines than AT's band.
+at.LinearSolver = "Conjugate gradients, incomplete Cholesky"
+at.UpdatePipeline()
+check("SharpFeatures" in globals(), "Sharp Features available")
+sharp = SharpFeatures(Input=at)
+check(list(sharp.Normals)[-1] == "ATNormals" and list(sharp.FeatureIndicator)[-1] == "ATFeatureIndicator",
+      "Sharp Features selects ATNormals and ATFeatureIndicator (%s, %s)"
+      % (list(sharp.Normals), list(sharp.FeatureIndicator)))
+sharp.UpdatePipeline()
+sharp_surface = servermanager.Fetch(sharp, idx=0)
+sharp_lines = servermanager.Fetch(sharp, idx=1)
+from digitalgeometry import vtkSharpFeaturesFilter  # noqa: E402
+
+vsharp = vtkSharpFeaturesFilter()
+vsharp.SetInputConnection(vat.GetOutputPort())
+vsharp.Update()
+got_s = sharp_surface.GetCellData().GetArray("SharpNormals")
+ref_s = vsharp.GetOutput(0).GetCellData().GetArray("SharpNormals")
+check(got_s is not None and ref_s is not None and got_s.GetNumberOfTuples() == ref_s.GetNumberOfTuples(),
+      "plugin output has SharpNormals")
+if got_s is not None and ref_s is not None:
+    diff = max(abs(got_s.GetComponent(c, a) - ref_s.GetComponent(c, a))
+               for c in range(0, ref_s.GetNumberOfTuples(), 5) for a in range(3))
+    check(diff == 0.0, "plugin SharpNormals equal the C++ filter's (max diff %g)" % diff)
+n_sharp = sharp_lines.GetNumberOfLines()
+check(0 < n_sharp < n_lines and n_sharp == vsharp.GetOutput(1).GetNumberOfLines(),
+      "sharp feature lines: %d (C++ %d), fewer than AT's %d"
+      % (n_sharp, vsharp.GetOutput(1).GetNumberOfLines(), n_lines))
+check(sharp_lines.GetCellData().GetArray("FeatureAngle") is not None, "FeatureAngle on the lines")
+Delete(sharp)
+
 # AT straight on Digital Surface: the trivial normals, chosen by name.
 at_trivial = AmbrosioTortorelli(Input=surface)
 at_trivial.Field = ["CELLS", "Normals"]
