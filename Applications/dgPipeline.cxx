@@ -82,15 +82,41 @@ void Pipeline::Build(vtkImageData* image, const PipelineSettings& s)
     this->Sharp->SetFeatureThreshold(s.FeatureThreshold);
     this->Stages.push_back({ "sharp features", this->Sharp });
   }
+  if (this->UseSecondPass())
+  {
+    this->AT2->SetInputConnection(this->Sharp->GetOutputPort());
+    this->AT2->SetInputArrayToProcess(
+      0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "SharpNormals");
+    {
+      vtkAmbrosioTortorelliFilter* a = this->AT2;
+      a->SetAlpha(s.Alpha);
+      a->SetLambda(s.Lambda);
+      a->SetEpsilonStart(s.EpsStart);
+      a->SetEpsilonEnd(s.EpsEnd);
+      a->SetEpsilonRatio(s.EpsRatio);
+      a->SetMaximumIterations(s.Iterations);
+      a->SetTolerance(s.Tolerance);
+      a->SetFeatureThreshold(s.FeatureThreshold);
+      a->SetLinearSolver(s.Solver);
+    }
+    this->Stages.push_back({ "Ambrosio-Tortorelli 2", this->AT2 });
+    this->Sharp2->SetInputConnection(this->AT2->GetOutputPort());
+    this->Sharp2->SetFeatureThreshold(s.FeatureThreshold);
+    this->Stages.push_back({ "sharp features 2", this->Sharp2 });
+  }
 }
 
 vtkPolyData* Pipeline::Result()
 {
+  if (this->UseSecondPass())
+    return this->Sharp2->GetOutput(0);
   return this->Settings.Sharpen ? this->Sharp->GetOutput(0) : this->AT->GetOutput(0);
 }
 
 vtkPolyData* Pipeline::Features()
 {
+  if (this->UseSecondPass())
+    return this->Sharp2->GetOutput(1);
   return this->Settings.Sharpen ? this->Sharp->GetOutput(1) : this->AT->GetOutput(1);
 }
 

@@ -49,6 +49,11 @@ struct PipelineSettings
   // One line per sharp edge and side normals (vtkSharpFeaturesFilter); off
   // gives the paper's own output (AT's lines and normals).
   bool Sharpen = true;
+  // A second AT pass fed with the first pass's side normals (an input that
+  // does not blur across the edges: AT alone then draws one line per edge),
+  // then the sharp stage again: normals 10-30 % closer near the edges, twice
+  // AT's time (docs/sharp-features.md). Needs Sharpen.
+  bool SecondPass = false;
 };
 
 class Pipeline
@@ -73,6 +78,8 @@ public:
   vtkImageData* Volume();
   /// Name of the final normal field ("SharpNormals" or "ATNormals").
   const char* NormalsName() const { return this->Settings.Sharpen ? "SharpNormals" : "ATNormals"; }
+  /// The AT stage whose lines the sharp stage read (the second one if any).
+  vtkAmbrosioTortorelliFilter* LastAT() { return this->UseSecondPass() ? this->AT2.Get() : this->AT.Get(); }
 
   vtkNew<vtkDigitalNoiseFilter> Noise;
   vtkNew<vtkDigitalIslandFilter> Islands;
@@ -80,8 +87,11 @@ public:
   vtkNew<vtkIINormalEstimator> II;
   vtkNew<vtkAmbrosioTortorelliFilter> AT;
   vtkNew<vtkSharpFeaturesFilter> Sharp;
+  vtkNew<vtkAmbrosioTortorelliFilter> AT2;
+  vtkNew<vtkSharpFeaturesFilter> Sharp2;
 
 private:
+  bool UseSecondPass() const { return this->Settings.Sharpen && this->Settings.SecondPass; }
   PipelineSettings Settings;
   vtkImageData* Input = nullptr;
 };

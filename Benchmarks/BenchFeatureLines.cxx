@@ -146,6 +146,7 @@ int main(int argc, char* argv[])
   double threshold = 0.5, edgeAngle = 10;
   int islands = 8, passes = 2, voteDepth = 2, fit = 1;
   double beta = 0.2, residual = 0.3;
+  bool secondPass = false;
   for (int a = 1; a + 1 < argc; a += 2)
   {
     const std::string k = argv[a], v = argv[a + 1];
@@ -185,6 +186,8 @@ int main(int argc, char* argv[])
       residual = std::stod(v);
     else if (k == "--fit")
       fit = std::stoi(v);
+    else if (k == "--second-pass")
+      secondPass = std::stoi(v) != 0;
     else if (k == "--passes")
       passes = std::stoi(v);
     else if (k == "--vote-depth")
@@ -250,6 +253,24 @@ int main(int argc, char* argv[])
           const auto mII = dgtest::MeasureFeatures(*shape, ii->GetOutput(), "IINormals", nullptr);
           const auto mS = dgtest::MeasureFeatures(
             *shape, sharp->GetOutput(0), "SharpNormals", sharp->GetOutput(1));
+          if (secondPass)
+          {
+            // AT again, fed with the side normals (an input that does not blur
+            // across the edges), then the sharp stage again.
+            vtkNew<vtkAmbrosioTortorelliFilter> at2;
+            at2->SetInputConnection(sharp->GetOutputPort());
+            at2->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "SharpNormals");
+            at2->SetAlpha(alpha);
+            at2->SetLambda(lambda);
+            vtkNew<vtkSharpFeaturesFilter> sharp2;
+            sharp2->SetInputConnection(at2->GetOutputPort());
+            sharp2->Update();
+            const auto m2 = dgtest::MeasureFeatures(*shape, at2->GetOutput(0), "ATNormals", at2->GetOutput(1));
+            const auto m3 = dgtest::MeasureFeatures(
+              *shape, sharp2->GetOutput(0), "SharpNormals", sharp2->GetOutput(1));
+            std::printf("%-10s %4d k %.1f s %d | AT2   %s\n", name.c_str(), n, k, seeds[si], m2.Describe().c_str());
+            std::printf("%-10s %4d k %.1f s %d | sharp2 %s\n", name.c_str(), n, k, seeds[si], m3.Describe().c_str());
+          }
           std::printf("%-10s %4d k %.1f s %d | II   err mean %.2f <1 %.2f <3 %.2f\n", name.c_str(), n, k,
             seeds[si], mII.MeanError, mII.Error1, mII.Error3);
           std::printf("%-10s %4d k %.1f s %d | AT    %s\n", name.c_str(), n, k, seeds[si],
