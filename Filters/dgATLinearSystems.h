@@ -1,0 +1,37 @@
+// The linear systems of the Ambrosio-Tortorelli steps (dgATSolver.h says
+// which and why): one class per solver behind ATLinearSystem, private to the
+// module.
+#ifndef dgATLinearSystems_h
+#define dgATLinearSystems_h
+
+#include "dgATSolver.h"
+
+#include <memory>
+
+namespace dg
+{
+
+// One linear system whose pattern never changes: Analyze once, then
+// Factorize + Solve at each step with new values.
+class ATLinearSystem
+{
+public:
+  virtual ~ATLinearSystem() = default;
+  virtual bool Analyze(const ATSystemMatrix&) { return true; }
+  virtual bool Factorize(const ATSystemMatrix&) = 0;
+  /// x holds the previous solution on entry (a warm start for iterative
+  /// solvers) and the new one on success.
+  virtual bool Solve(const ATSystemMatrix& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& x) = 0;
+  bool Analyzed = false;
+  std::int64_t Iterations = 0;
+};
+
+/// Conjugate gradients with block IC(0) (dgATICSystem.cxx).
+std::unique_ptr<ATLinearSystem> MakeICSystem(double tolerance, int maxIterations);
+
+/// The system for p.Solver (null for CHOLMOD in a build without it).
+std::unique_ptr<ATLinearSystem> MakeATLinearSystem(const ATParameters& p);
+
+} // namespace dg
+
+#endif
