@@ -4,10 +4,16 @@
 //
 // Usage: BenchFeatureLines [--sizes 64] [--shapes cube,cube2,octahedron,cubesphere]
 //          [--noise 0,0.3] [--seeds 1,2] [--radius R] [--alpha A] [--lambda L]
-//          [--islands N] [--depth D] [--min-region M] [--angle DEG]
+//          [--islands N (default 8, vtkDigitalIslandFilter; 0 = off)] [--depth D]
+//          [--min-region M] [--angle DEG] [--edge-angle DEG] [--beta B]
+//          [--residual R] [--fit 0|1] [--passes P] [--vote-depth D]
+//          [--threshold T] [--second-pass 0|1]
+// DG_PROFILE=1 also prints the errors by distance to the edges and where the
+// lines lie; DG_DUMP=PREFIX writes PREFIX_surface.vtp, _lines.vtp, _atlines.vtp.
 #include "dgFeatureMetrics.h"
 #include "dgGroundTruth.h"
 #include "vtkAmbrosioTortorelliFilter.h"
+#include "vtkDigitalIslandFilter.h"
 #include "vtkDigitalSurfaceFilter.h"
 #include "vtkIINormalEstimator.h"
 #include "vtkSharpFeaturesFilter.h"
@@ -92,47 +98,6 @@ std::string Profile(const dgtest::ImplicitShape& shape, vtkPolyData* surface, co
   std::snprintf(buf, sizeof(buf), " | bin0 >30deg %d/%d, outside %d", big, count[0], outside);
   return out + buf;
 }
-// Temporary stand-in for the island filter: flips 6-connected components of
-// either value smaller than minSize voxels.
-void RemoveSmallComponents(vtkImageData* image, int minSize)
-{
-  int d[3];
-  image->GetDimensions(d);
-  auto* s = static_cast<unsigned char*>(image->GetScalarPointer());
-  const long n = long(d[0]) * d[1] * d[2];
-  std::vector<int> label(n, -1);
-  std::vector<long> stack, members;
-  for (long seed = 0; seed < n; ++seed)
-  {
-    if (label[seed] >= 0)
-      continue;
-    const unsigned char val = s[seed] != 0;
-    members.clear();
-    stack.assign(1, seed);
-    label[seed] = 1;
-    bool border = false;
-    while (!stack.empty())
-    {
-      const long id = stack.back();
-      stack.pop_back();
-      members.push_back(id);
-      const int i = id % d[0], j = (id / d[0]) % d[1], k = id / (long(d[0]) * d[1]);
-      border |= i == 0 || j == 0 || k == 0 || i == d[0] - 1 || j == d[1] - 1 || k == d[2] - 1;
-      const long nb[6] = { i > 0 ? id - 1 : -1, i + 1 < d[0] ? id + 1 : -1, j > 0 ? id - d[0] : -1,
-        j + 1 < d[1] ? id + d[0] : -1, k > 0 ? id - long(d[0]) * d[1] : -1,
-        k + 1 < d[2] ? id + long(d[0]) * d[1] : -1 };
-      for (long q : nb)
-        if (q >= 0 && label[q] < 0 && (s[q] != 0) == val)
-        {
-          label[q] = 1;
-          stack.push_back(q);
-        }
-    }
-    if (static_cast<int>(members.size()) < minSize && (val || !border))
-      for (long id : members)
-        s[id] = !val;
-  }
-}
 } // namespace
 
 int main(int argc, char* argv[])
@@ -141,7 +106,7 @@ int main(int argc, char* argv[])
   std::vector<std::string> shapes = { "cube", "cube2", "octahedron", "cubesphere" };
   std::vector<double> noise = { 0, 0.3 };
   std::vector<int> seeds = { 1 };
-  double radius = 4, alpha = 0.05, lambda = 0.01, angle = 15;
+  double radius = 4, alpha = 0.05, lambda = 0.005, angle = 15;
   int depth = 5, minRegion = 30;
   double threshold = 0.5, edgeAngle = 10;
   int islands = 8, passes = 2, voteDepth = 2, fit = 1;
@@ -221,9 +186,15 @@ int main(int argc, char* argv[])
         for (std::size_t si = 0; si < (k == 0 ? 1 : seeds.size()); ++si)
         {
           const auto t0 = std::chrono::steady_clock::now();
-          auto image = dgtest::NoisyDigitize(*shape, n, k, seeds[si]);
-          if (islands > 0)
-            RemoveSmallComponents(image, islands);
+          vtkSmartPointer<vtkImageData> image = dgtest::NoisyDigitize(*shape, n, k, seeds[si]);
+          if (islands > 1)
+          {
+            vtkNew<vtkDigitalIslandFilter> isl;
+            isl->SetInputData(image);
+            isl->SetMinimumSize(islands);
+            isl->Update();
+            image = isl->GetOutput();
+          }
           vtkNew<vtkDigitalSurfaceFilter> surf;
           surf->SetInputData(image);
           vtkNew<vtkIINormalEstimator> ii;

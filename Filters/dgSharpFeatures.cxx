@@ -201,6 +201,49 @@ struct SearchScratch
   std::vector<RegionSample> Samples;
 };
 
+
+// Breadth-first search over the face graph from f0, through the faces that
+// pass(face) accepts, at most `limit` steps; visit(face, depth, limit) sees
+// every face reached in order of depth and returns the limit (it may lower
+// it). The scratch's stamps make each search O(faces reached).
+template<class Pass, class Visit>
+void Breadth(const FaceGraph& graph, SearchScratch& s, std::int64_t f0, int limit,
+  const Pass& pass, const Visit& visit)
+{
+  if (s.Stamp.empty())
+    s.Stamp.assign(graph.FaceEdgePtr.size() - 1, 0);
+  if (++s.Current == 0)
+  {
+    std::fill(s.Stamp.begin(), s.Stamp.end(), 0);
+    s.Current = 1;
+  }
+  s.Queue.assign(1, { f0, 0 });
+  s.Stamp[f0] = s.Current;
+  for (std::size_t head = 0; head < s.Queue.size(); ++head)
+  {
+    const std::int64_t f = s.Queue[head].first;
+    const int depth = s.Queue[head].second;
+    if (depth > limit)
+      break;
+    limit = visit(f, depth, limit);
+    if (depth >= limit)
+      continue;
+    for (std::int64_t k = graph.FaceEdgePtr[f]; k < graph.FaceEdgePtr[f + 1]; ++k)
+    {
+      const std::int64_t e = graph.FaceEdges[k];
+      for (std::int64_t j = graph.EdgeFacePtr[e]; j < graph.EdgeFacePtr[e + 1]; ++j)
+      {
+        const std::int64_t g = graph.EdgeFaces[j];
+        if (s.Stamp[g] != s.Current && pass(g))
+        {
+          s.Stamp[g] = s.Current;
+          s.Queue.emplace_back(g, depth + 1);
+        }
+      }
+    }
+  }
+}
+
 } // namespace
 
 bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
@@ -340,58 +383,29 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
   vtkSMPThreadLocal<SearchScratch> scratch;
   vtkSMPTools::For(0, static_cast<std::int64_t>(bandFaces.size()), [&](std::int64_t b, std::int64_t e) {
     SearchScratch& s = scratch.Local();
-    if (s.Stamp.empty())
-      s.Stamp.assign(F, 0);
     for (std::int64_t i = b; i < e; ++i)
     {
       const std::int64_t f0 = bandFaces[i];
-      if (++s.Current == 0)
-      {
-        std::fill(s.Stamp.begin(), s.Stamp.end(), 0);
-        s.Current = 1;
-      }
-      s.Queue.assign(1, { f0, 0 });
-      s.Stamp[f0] = s.Current;
       s.Samples.clear();
-      int limit = MaximumDepth;
-      for (std::size_t head = 0; head < s.Queue.size(); ++head)
-      {
-        const std::int64_t f = s.Queue[head].first;
-        const int depth = s.Queue[head].second;
-        if (depth > limit)
-          break;
-        if (region[f] >= 0)
+      auto all = [](std::int64_t) { return true; };
+      Breadth(graph, s, f0, MaximumDepth, all, [&](std::int64_t f, int depth, int limit) {
+        if (region[f] < 0)
+          return limit;
+        if (s.Samples.empty())
+          limit = std::min(limit, depth + par.SearchDepth);
+        auto it = std::find_if(s.Samples.begin(), s.Samples.end(),
+          [&](const RegionSample& r) { return r.Region == region[f]; });
+        if (it == s.Samples.end())
         {
-          if (s.Samples.empty())
-            limit = std::min(limit, depth + par.SearchDepth);
-          auto it = std::find_if(s.Samples.begin(), s.Samples.end(),
-            [&](const RegionSample& r) { return r.Region == region[f]; });
-          if (it == s.Samples.end())
-          {
-            s.Samples.emplace_back();
-            s.Samples.back().Region = region[f];
-            it = s.Samples.end() - 1;
-          }
-          ++it->Count;
-          it->AddPosition(centre[f]);
-          it->NormalSum += field[f];
+          s.Samples.emplace_back();
+          s.Samples.back().Region = region[f];
+          it = s.Samples.end() - 1;
         }
-        if (depth == limit)
-          continue;
-        for (std::int64_t k = graph.FaceEdgePtr[f]; k < graph.FaceEdgePtr[f + 1]; ++k)
-        {
-          const std::int64_t ed = graph.FaceEdges[k];
-          for (std::int64_t j = graph.EdgeFacePtr[ed]; j < graph.EdgeFacePtr[ed + 1]; ++j)
-          {
-            const std::int64_t g = graph.EdgeFaces[j];
-            if (s.Stamp[g] != s.Current)
-            {
-              s.Stamp[g] = s.Current;
-              s.Queue.emplace_back(g, depth + 1);
-            }
-          }
-        }
-      }
+        ++it->Count;
+        it->AddPosition(centre[f]);
+        it->NormalSum += field[f];
+        return limit;
+      });
       if (s.Samples.empty())
         continue;
       // Candidates: enough support, and a normal on the face's own side.
@@ -446,54 +460,28 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
     std::vector<Vec3> nextNormal(out);
     vtkSMPTools::For(0, static_cast<std::int64_t>(bandFaces.size()), [&](std::int64_t b, std::int64_t e) {
       SearchScratch& s = scratch.Local();
-      if (s.Stamp.empty())
-        s.Stamp.assign(F, 0);
       for (std::int64_t i = b; i < e; ++i)
       {
         const std::int64_t f0 = bandFaces[i];
         if (assigned[f0] < 0)
           continue;
-        if (++s.Current == 0)
-        {
-          std::fill(s.Stamp.begin(), s.Stamp.end(), 0);
-          s.Current = 1;
-        }
-        s.Queue.assign(1, { f0, 0 });
-        s.Stamp[f0] = s.Current;
         s.Samples.clear();
-        for (std::size_t head = 0; head < s.Queue.size(); ++head)
-        {
-          const std::int64_t f = s.Queue[head].first;
-          const int depth = s.Queue[head].second;
-          if (assigned[f] >= 0)
+        auto all = [](std::int64_t) { return true; };
+        Breadth(graph, s, f0, par.SmoothingDepth, all, [&](std::int64_t f, int, int limit) {
+          if (assigned[f] < 0)
+            return limit;
+          auto it = std::find_if(s.Samples.begin(), s.Samples.end(),
+            [&](const RegionSample& r) { return r.Region == assigned[f]; });
+          if (it == s.Samples.end())
           {
-            auto it = std::find_if(s.Samples.begin(), s.Samples.end(),
-              [&](const RegionSample& r) { return r.Region == assigned[f]; });
-            if (it == s.Samples.end())
-            {
-              s.Samples.emplace_back();
-              s.Samples.back().Region = assigned[f];
-              it = s.Samples.end() - 1;
-            }
-            ++it->Count;
-            it->NormalSum += out[f];
+            s.Samples.emplace_back();
+            s.Samples.back().Region = assigned[f];
+            it = s.Samples.end() - 1;
           }
-          if (depth == par.SmoothingDepth)
-            continue;
-          for (std::int64_t k = graph.FaceEdgePtr[f]; k < graph.FaceEdgePtr[f + 1]; ++k)
-          {
-            const std::int64_t ed = graph.FaceEdges[k];
-            for (std::int64_t j = graph.EdgeFacePtr[ed]; j < graph.EdgeFacePtr[ed + 1]; ++j)
-            {
-              const std::int64_t g = graph.EdgeFaces[j];
-              if (s.Stamp[g] != s.Current)
-              {
-                s.Stamp[g] = s.Current;
-                s.Queue.emplace_back(g, depth + 1);
-              }
-            }
-          }
-        }
+          ++it->Count;
+          it->NormalSum += out[f];
+          return limit;
+        });
         const RegionSample* own = nullptr;
         const RegionSample* best = nullptr;
         for (const auto& r : s.Samples)
@@ -550,40 +538,16 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
 
   vtkSMPTools::For(0, static_cast<std::int64_t>(boundaryFaces.size()), [&](std::int64_t b, std::int64_t e) {
     SearchScratch& s = scratch.Local();
-    if (s.Stamp.empty())
-      s.Stamp.assign(F, 0);
     for (std::int64_t i = b; i < e; ++i)
     {
       const std::int64_t f0 = boundaryFaces[i];
-      if (++s.Current == 0)
-      {
-        std::fill(s.Stamp.begin(), s.Stamp.end(), 0);
-        s.Current = 1;
-      }
-      s.Queue.assign(1, { f0, 0 });
-      s.Stamp[f0] = s.Current;
       Vec3 sum;
-      for (std::size_t head = 0; head < s.Queue.size(); ++head)
-      {
-        const std::int64_t f = s.Queue[head].first;
-        const int depth = s.Queue[head].second;
-        sum += field[f];
-        if (depth == par.SearchDepth)
-          continue;
-        for (std::int64_t k = graph.FaceEdgePtr[f]; k < graph.FaceEdgePtr[f + 1]; ++k)
-        {
-          const std::int64_t ed = graph.FaceEdges[k];
-          for (std::int64_t j = graph.EdgeFacePtr[ed]; j < graph.EdgeFacePtr[ed + 1]; ++j)
-          {
-            const std::int64_t g = graph.EdgeFaces[j];
-            if (s.Stamp[g] != s.Current && assigned[g] == assigned[f0])
-            {
-              s.Stamp[g] = s.Current;
-              s.Queue.emplace_back(g, depth + 1);
-            }
-          }
-        }
-      }
+      Breadth(graph, s, f0, par.SearchDepth,
+        [&](std::int64_t g) { return assigned[g] == assigned[f0]; },
+        [&](std::int64_t f, int, int limit) {
+          sum += field[f];
+          return limit;
+        });
       localMean[f0] = sum;
     }
   });
@@ -627,42 +591,18 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
     std::vector<Vec3> smooth(out);
     vtkSMPTools::For(0, F, [&](std::int64_t b, std::int64_t e) {
       SearchScratch& s = scratch.Local();
-      if (s.Stamp.empty())
-        s.Stamp.assign(F, 0);
       for (std::int64_t f0 = b; f0 < e; ++f0)
       {
         const int r0 = result.Region[f0];
         if (r0 < 0)
           continue;
-        if (++s.Current == 0)
-        {
-          std::fill(s.Stamp.begin(), s.Stamp.end(), 0);
-          s.Current = 1;
-        }
-        s.Queue.assign(1, { f0, 0 });
-        s.Stamp[f0] = s.Current;
         Vec3 sum;
-        for (std::size_t head = 0; head < s.Queue.size(); ++head)
-        {
-          const std::int64_t f = s.Queue[head].first;
-          const int depth = s.Queue[head].second;
-          sum += out[f];
-          if (depth == par.NormalSmoothingDepth)
-            continue;
-          for (std::int64_t k = graph.FaceEdgePtr[f]; k < graph.FaceEdgePtr[f + 1]; ++k)
-          {
-            const std::int64_t ed = graph.FaceEdges[k];
-            for (std::int64_t j = graph.EdgeFacePtr[ed]; j < graph.EdgeFacePtr[ed + 1]; ++j)
-            {
-              const std::int64_t g = graph.EdgeFaces[j];
-              if (s.Stamp[g] != s.Current && result.Region[g] == r0)
-              {
-                s.Stamp[g] = s.Current;
-                s.Queue.emplace_back(g, depth + 1);
-              }
-            }
-          }
-        }
+        Breadth(graph, s, f0, par.NormalSmoothingDepth,
+          [&](std::int64_t g) { return result.Region[g] == r0; },
+          [&](std::int64_t f, int, int limit) {
+            sum += out[f];
+            return limit;
+          });
         const Vec3 m = sum.Unit();
         if (m.Norm() > 0)
           smooth[f0] = m;
