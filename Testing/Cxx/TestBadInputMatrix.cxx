@@ -12,6 +12,7 @@
 #include "vtkAmbrosioTortorelliFilter.h"
 #include "vtkDGtalVolReader.h"
 #include "vtkDigitalIslandFilter.h"
+#include "vtkSharpFeaturesFilter.h"
 #include "vtkDigitalSurfaceFilter.h"
 #include "vtkIINormalEstimator.h"
 
@@ -180,6 +181,31 @@ Outcome AT(vtkPolyData* input, const std::function<void(vtkAmbrosioTortorelliFil
   {
     o.Cells = at->GetOutput(0)->GetNumberOfPolys();
   }
+  o.ExpectedCells = input->GetNumberOfPolys();
+  return o;
+}
+
+// vtkSharpFeaturesFilter on AT's output of the small cube (or on what
+// `edit` makes of it).
+Outcome Sharp(const std::function<void(vtkPolyData*)>& edit,
+  const std::function<void(vtkSharpFeaturesFilter*)>& set = {})
+{
+  vtkNew<vtkAmbrosioTortorelliFilter> at;
+  at->SetMaximumIterations(2);
+  at->SetInputData(CubeSurface());
+  at->Update();
+  auto input = vtkSmartPointer<vtkPolyData>::New();
+  input->DeepCopy(at->GetOutput(0));
+  if (edit)
+    edit(input);
+  vtkNew<vtkSharpFeaturesFilter> f;
+  if (set)
+    set(f);
+  f->SetInputData(input);
+  Outcome o = Run(f);
+  o.Cells += f->GetOutput(1)->GetNumberOfCells(); // an error must empty both ports
+  if (o.Errors == 0)
+    o.Cells = f->GetOutput(0)->GetNumberOfPolys();
   o.ExpectedCells = input->GetNumberOfPolys();
   return o;
 }
@@ -543,6 +569,40 @@ const Row Rows[] = {
           }
         });
     } },
+  // vtkSharpFeaturesFilter
+  { "SharpNoPolygons",
+    Expect::Error,
+    "no polygons",
+    [] { return Sharp([](vtkPolyData* pd) { pd->SetPolys(vtkNew<vtkCellArray>()); }); } },
+  { "SharpMissingNormals",
+    Expect::Error,
+    "ATNormals",
+    [] { return Sharp([](vtkPolyData* pd) { pd->GetCellData()->RemoveArray("ATNormals"); }); } },
+  { "SharpMissingIndicator",
+    Expect::Error,
+    "ATFeatureIndicator",
+    [] { return Sharp([](vtkPolyData* pd) { pd->GetPointData()->RemoveArray("ATFeatureIndicator"); }); } },
+  { "SharpNaNNormal",
+    Expect::Error,
+    "NaN",
+    [] { return Sharp([](vtkPolyData* pd) { pd->GetCellData()->GetArray("ATNormals")->SetComponent(2, 1, std::nan("")); }); } },
+  { "SharpNaNIndicator",
+    Expect::Error,
+    "NaN",
+    [] { return Sharp([](vtkPolyData* pd) { pd->GetPointData()->GetArray("ATFeatureIndicator")->SetComponent(4, 0, std::nan("")); }); } },
+  { "SharpThresholdOne",
+    Expect::Error,
+    "FeatureThreshold",
+    [] { return Sharp({}, [](vtkSharpFeaturesFilter* f) { f->SetFeatureThreshold(1); }); } },
+  { "SharpSearchDepthNegative",
+    Expect::Error,
+    "SearchDepth",
+    [] { return Sharp({}, [](vtkSharpFeaturesFilter* f) { f->SetSearchDepth(-1); }); } },
+  { "SharpReferenceWeightZero",
+    Expect::Error,
+    "ReferenceWeight",
+    [] { return Sharp({}, [](vtkSharpFeaturesFilter* f) { f->SetReferenceWeight(0); }); } },
+  { "SharpGood", Expect::Result, "", [] { return Sharp({}); } },
   { "VolGood",
     Expect::Result,
     "",

@@ -201,7 +201,38 @@ bad_cases = [
     ("not a number", ["--alpha", "abc"], 2),
     ("unknown option", ["--frobnicate"], 2),
     ("unknown solver", ["--solver", "gauss"], 2),
+    ("negative component size", ["--min-component", "-1"], 2),
+    ("fractional component size", ["--min-component", "2.5"], 2),
 ]
+# The default output (sharp features) against the paper's (--plain), on a
+# small built-in shape: one line per edge, side normals active, and islands
+# reported.
+def read_vtp(out, name):
+    r = vtkXMLPolyDataReader()
+    r.SetFileName(os.path.join(out, name))
+    r.Update()
+    return r.GetOutput()
+
+
+p, out = run("--size", "48", "--no-png")
+default_surface, default_lines = read_vtp(out, "builtin_surface.vtp"), read_vtp(out, "builtin_features.vtp")
+p2, out2 = run("--size", "48", "--no-png", "--plain")
+plain_surface, plain_lines = read_vtp(out2, "builtin_surface.vtp"), read_vtp(out2, "builtin_features.vtp")
+active = default_surface.GetCellData().GetNormals()
+check(p.returncode == 0 and active is not None and active.GetName() == "SharpNormals"
+      and default_surface.GetCellData().GetArray("FeatureRegion") is not None
+      and default_lines.GetCellData().GetArray("FeatureAngle") is not None,
+      "default output: SharpNormals active, FeatureRegion, FeatureAngle")
+check("inside components" in p.stdout and "one line per edge" in p.stdout,
+      "the summary reports the islands and the sharp stage")
+plain_active = plain_surface.GetCellData().GetNormals()
+check(p2.returncode == 0 and plain_active is not None and plain_active.GetName() == "ATNormals"
+      and plain_surface.GetCellData().GetArray("SharpNormals") is None,
+      "--plain: the paper's output (ATNormals active, no SharpNormals)")
+check(0 < default_lines.GetNumberOfLines() < plain_lines.GetNumberOfLines() / 2,
+      "one line per edge: %d feature lines against AT's %d"
+      % (default_lines.GetNumberOfLines(), plain_lines.GetNumberOfLines()))
+
 for what, args, status in bad_cases:
     p, out = run(*args)
     lines = [l for l in p.stderr.strip().splitlines() if l.strip()]
