@@ -18,7 +18,9 @@
 #include "vtkIINormalEstimator.h"
 #include "vtkSharpFeaturesFilter.h"
 
+#include <vtkCellArray.h>
 #include <vtkCellData.h>
+#include <vtkIdList.h>
 #include <vtkDataArray.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
@@ -26,7 +28,9 @@
 #include <vtkSMPTools.h>
 #include <vtkXMLPolyDataWriter.h>
 
+#include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -97,6 +101,61 @@ std::string Profile(const dgtest::ImplicitShape& shape, vtkPolyData* surface, co
   }
   std::snprintf(buf, sizeof(buf), " | bin0 >30deg %d/%d, outside %d", big, count[0], outside);
   return out + buf;
+}
+// The lines an oracle would draw: faces labelled by their true normal (one
+// label per planar face of the shape, one for all curved parts), lines
+// between differently labelled faces. Where the truth itself changes on the
+// digital surface, so the best any labelling can do under these metrics.
+vtkSmartPointer<vtkPolyData> OracleLines(const dgtest::ImplicitShape& shape, vtkPolyData* surface)
+{
+  const auto centres = dgtest::SurfelCenters(surface);
+  std::map<std::array<long long, 3>, int> count;
+  std::vector<std::array<long long, 3>> key(centres.size());
+  for (std::size_t i = 0; i < centres.size(); ++i)
+  {
+    const V3 n = shape.Normal(centres[i]);
+    key[i] = { std::llround(n.x() * 1e6), std::llround(n.y() * 1e6), std::llround(n.z() * 1e6) };
+    ++count[key[i]];
+  }
+  std::map<std::array<long long, 3>, int> label;
+  std::vector<int> lab(centres.size());
+  for (std::size_t i = 0; i < centres.size(); ++i)
+  {
+    if (count[key[i]] < 10)
+      lab[i] = -2; // curved
+    else
+    {
+      auto it = label.emplace(key[i], static_cast<int>(label.size())).first;
+      lab[i] = it->second;
+    }
+  }
+  std::map<std::pair<vtkIdType, vtkIdType>, std::vector<vtkIdType>> edgeFaces;
+  vtkCellArray* polys = surface->GetPolys();
+  vtkNew<vtkIdList> ids;
+  vtkIdType f = 0;
+  for (polys->InitTraversal(); polys->GetNextCell(ids); ++f)
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+    {
+      vtkIdType a = ids->GetId(k), b = ids->GetId((k + 1) % ids->GetNumberOfIds());
+      edgeFaces[{ std::min(a, b), std::max(a, b) }].push_back(f);
+    }
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  out->SetPoints(surface->GetPoints());
+  vtkNew<vtkCellArray> lines;
+  for (const auto& ef : edgeFaces)
+  {
+    bool differ = false;
+    for (vtkIdType x : ef.second)
+      for (vtkIdType y : ef.second)
+        differ |= lab[x] != lab[y];
+    if (differ)
+    {
+      vtkIdType pts[2] = { ef.first.first, ef.first.second };
+      lines->InsertNextCell(2, pts);
+    }
+  }
+  out->SetLines(lines);
+  return out;
 }
 } // namespace
 
@@ -244,6 +303,13 @@ int main(int argc, char* argv[])
           }
           std::printf("%-10s %4d k %.1f s %d | II   err mean %.2f <1 %.2f <3 %.2f\n", name.c_str(), n, k,
             seeds[si], mII.MeanError, mII.Error1, mII.Error3);
+          if (std::getenv("DG_ORACLE"))
+          {
+            const auto mO = dgtest::MeasureFeatures(
+              *shape, surf->GetOutput(), "Normals", OracleLines(*shape, surf->GetOutput()));
+            std::printf("%-10s %4d k %.1f s %d | oracle %s\n", name.c_str(), n, k, seeds[si],
+              mO.Describe().c_str());
+          }
           std::printf("%-10s %4d k %.1f s %d | AT    %s\n", name.c_str(), n, k, seeds[si],
             mAT.Describe().c_str());
           std::printf("%-10s %4d k %.1f s %d | sharp %s | band %lld unassigned %lld regions %d | %.1f s\n",
