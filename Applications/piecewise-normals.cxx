@@ -100,9 +100,10 @@ Outputs (in --output-dir, named PREFIX_*; PREFIX defaults to the input's name)
   --prefix NAME          file name prefix
   --size N               grid size of the built-in shape (default 96)
   --no-png               no picture
-  --panels               picture with three panels: input | regularised | features
+  --panels               picture as a strip of four square panels, W x W/4,
+                         instead of the default 2 x 2 grid at W x H
   --width W --height H   picture size in pixels (default 1200 x 900; with
-                         --panels the height is W / 3)
+                         --panels the height is W / 4 and H is not used)
   --ply, --obj           also write the surface as PLY / OBJ
   --quiet                no progress bar
   -h, --help             this help
@@ -111,6 +112,12 @@ Writes PREFIX_surface.vtp (cell data: SharpNormals (active), FeatureRegion,
 ATNormals, IINormals, trivial Normals; point data: v = ATFeatureIndicator),
 PREFIX_features.vtp (the feature lines, with FeatureAngle in degrees; with
 --plain: AT's feature edges, with v) and PREFIX.png. Exit status 0 on success, 1 on bad input, 2 on bad options.
+
+The picture has four panels, as the paper's Fig. 1, in one three-quarter view,
+each framing the whole object: the digital surface (its quads, flat shaded) |
+the input normals g (II) | the regularised normals u | the feature lines (red)
+on the surface; normals are shown as colours RGB = (n + 1) / 2, one per quad.
+Default layout 2 x 2 (1 2 / 3 4); with --panels 1 x 4 (1 2 3 4).
 )";
 }
 

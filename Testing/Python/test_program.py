@@ -1,6 +1,6 @@
 """The command-line program: every reader path on files written here, bad
 input (one-line error, exit status, no partial output), the noise option,
-and a picture that is not blank."""
+and the picture: its size and four filled panels in both layouts."""
 import glob
 import os
 import shutil
@@ -289,31 +289,60 @@ if d.returncode == 0 and e.returncode == 0:
 else:
     check(False, "solver runs: %s %s" % (d.stderr, e.stderr))
 
-# The picture: the built-in shape, panels off; the object covers a sensible
-# share of the image and red feature pixels are present.
-p, out = run("--size", "48", "--width", "400", "--height", "300")
-png = os.path.join(out, "builtin.png")
-check(p.returncode == 0 and os.path.exists(png), "built-in shape with picture: %s" % p.stderr.strip()[-300:])
-if os.path.exists(png):
+# The picture: the built-in shape in both layouts (2 x 2 at W x H, 1 x 4 at
+# W x W/4). Each of the four panels holds the object (not background, not the
+# titles' dark text) on a reasonable share of its pixels and spans most of its
+# width or height; panels 2 and 3 show the normals as colours, 1 and 4 grey;
+# the red feature pixels are in panel 4.
+def read_png(path):
+    import numpy as np
+    from vtkmodules.util.numpy_support import vtk_to_numpy
     r = vtkPNGReader()
-    r.SetFileName(png)
+    r.SetFileName(path)
     r.Update()
     img = r.GetOutput()
-    dims = img.GetDimensions()
-    s = img.GetPointData().GetScalars()
-    nc = s.GetNumberOfComponents()
-    total = dims[0] * dims[1]
-    obj = red = 0
-    for n in range(total):
-        t = s.GetTuple(n)
-        if not (t[0] > 250 and t[1] > 250 and t[2] > 250):
-            obj += 1
-        if t[0] > 150 and t[1] < 80 and t[2] < 80:
-            red += 1
-    check(0.05 < obj / total < 0.9, "object covers %.1f%% of the picture" % (100.0 * obj / total))
-    check(red > 50, "%d red feature pixels" % red)
-    check("surfels" in p.stdout and "feature edges" in p.stdout and "peak memory" in p.stdout,
-          "summary printed: %r" % p.stdout[:300])
+    w, h, _ = img.GetDimensions()
+    a = vtk_to_numpy(img.GetPointData().GetScalars()).reshape(h, w, -1)[::-1, :, :3]
+    return np.asarray(a, dtype=int)  # row 0 at the top
+
+
+def panel_stats(a, index, columns, rows):
+    h, w, _ = a.shape
+    pw, ph = w // columns, h // rows
+    x0, y0 = (index % columns) * pw, (index // columns) * ph
+    p = a[y0 + 2:y0 + ph - 2, x0 + 2:x0 + pw - 2]  # without the dividing lines
+    mx, mn = p.max(axis=2), p.min(axis=2)
+    obj = (mn <= 245) & (mx >= 60)
+    ys, xs = obj.nonzero()
+    span = max((xs.max() - xs.min() + 1) / pw, (ys.max() - ys.min() + 1) / ph) if len(xs) else 0
+    red = (p[:, :, 0] > 150) & (p[:, :, 1] < 80) & (p[:, :, 2] < 80)
+    return obj.mean(), span, ((mx - mn > 40) & ~red).mean(), int(red.sum())
+
+
+for layout, args, size, grid in [
+        ("2 x 2", ["--width", "480", "--height", "360"], (480, 360), (2, 2)),
+        ("1 x 4", ["--width", "800", "--height", "900", "--panels"], (800, 200), (4, 1))]:
+    p, out = run("--size", "48", *args)
+    png = os.path.join(out, "builtin.png")
+    ok = p.returncode == 0 and os.path.exists(png)
+    check(ok, "%s picture of the built-in shape: %s" % (layout, p.stderr.strip()[-300:]))
+    if not ok:
+        continue
+    a = read_png(png)
+    check((a.shape[1], a.shape[0]) == size, "%s picture is %dx%d (want %dx%d)"
+          % (layout, a.shape[1], a.shape[0], size[0], size[1]))
+    stats = [panel_stats(a, i, *grid) for i in range(4)]
+    for i, (share, span, colourful, red) in enumerate(stats):
+        check(share > 0.15 and span > 0.8, "%s panel %d: object on %.0f%% of it, spans %.0f%%"
+              % (layout, i + 1, 100 * share, 100 * span))
+    check(stats[0][2] < 0.01 and stats[3][2] < 0.08 and stats[1][2] > 0.15 and stats[2][2] > 0.15,
+          "%s: normal colours in panels 2, 3 only (shares of colourful, not red pixels %s)"
+          % (layout, ["%.2f" % s[2] for s in stats]))
+    check(stats[3][3] > 50 and stats[0][3] == 0,
+          "%s: %d red feature pixels in panel 4, %d in panel 1" % (layout, stats[3][3], stats[0][3]))
+    if layout == "2 x 2":
+        check("surfels" in p.stdout and "feature edges" in p.stdout and "peak memory" in p.stdout
+              and "render" in p.stdout, "summary printed: %r" % p.stdout[:300])
 
 shutil.rmtree(ROOT, ignore_errors=True)
 print("%d passed, %d failed" % (len(checks) - len(failures), len(failures)))
