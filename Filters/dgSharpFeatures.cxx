@@ -3,6 +3,7 @@
 #include <vtkSMPThreadLocal.h>
 #include <vtkSMPTools.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
@@ -199,6 +200,7 @@ struct SearchScratch
   std::uint32_t Current = 0;
   std::vector<std::pair<std::int64_t, int>> Queue;
   std::vector<RegionSample> Samples;
+  std::vector<std::int64_t> Fit;
 };
 
 
@@ -507,11 +509,11 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
   // 4. Merge regions whose common boundary has a weak mean normal jump.
   const std::int64_t E = static_cast<std::int64_t>(graph.Edges.size());
   // A boundary's normal jump is the median over its edges of the angle
-  // between the two sides' local mean input normals (same-region faces
-  // within SearchDepth steps): single faces' normals are noisy, a mean over
-  // the whole boundary would cancel on a curved one, and the input normals
-  // are continuous across a false band on a smooth part, where two local
-  // plane fits a few faces apart are not.
+  // between the two sides' input normal fields extrapolated to the edge
+  // (below): single faces' normals are noisy, a mean over the whole boundary
+  // would cancel on a curved one, and the input normals are continuous
+  // across a false band on a smooth part, where two local plane fits a few
+  // faces apart are not.
   struct BoundaryEdge
   {
     std::int64_t A, B;
@@ -541,14 +543,53 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
     for (std::int64_t i = b; i < e; ++i)
     {
       const std::int64_t f0 = boundaryFaces[i];
-      Vec3 sum;
+      // The side's normal field extrapolated to this face: a linear fit
+      // u(x) = a + B (x - xbar) to the side's faces outside the band (their
+      // normals are not blended across the edge), evaluated at the face. On
+      // a smooth part cut by a false band both sides extrapolate to the same
+      // normal, however curved; across a true edge they differ by its angle.
+      Vec3 sum, xbar;
+      int count = 0;
+      s.Fit.clear();
       Breadth(graph, s, f0, par.SearchDepth,
         [&](std::int64_t g) { return assigned[g] == assigned[f0]; },
         [&](std::int64_t f, int, int limit) {
           sum += field[f];
+          if (!band[f] || !par.ExtrapolateSides)
+          {
+            s.Fit.push_back(f);
+            xbar += centre[f];
+            ++count;
+          }
           return limit;
         });
       localMean[f0] = sum;
+      if (!par.ExtrapolateSides || count < 12)
+        continue;
+      xbar = xbar * (1.0 / count);
+      Eigen::Matrix4d ata = Eigen::Matrix4d::Zero();
+      Eigen::Matrix<double, 4, 3> atb = Eigen::Matrix<double, 4, 3>::Zero();
+      for (std::int64_t f : s.Fit)
+      {
+        const Vec3 d = centre[f] - xbar;
+        const Eigen::Vector4d m(1.0, d.x, d.y, d.z);
+        ata += m * m.transpose();
+        atb += m * Eigen::RowVector3d(field[f].x, field[f].y, field[f].z);
+      }
+      // A small ridge on the slopes: the faces barely spread along the
+      // surface normal.
+      const double ridge = 1e-3 * (ata(1, 1) + ata(2, 2) + ata(3, 3));
+      for (int k = 1; k < 4; ++k)
+        ata(k, k) += ridge;
+      Eigen::LDLT<Eigen::Matrix4d> ldlt(ata);
+      if (ldlt.info() != Eigen::Success)
+        continue;
+      const Eigen::Matrix<double, 4, 3> coef = ldlt.solve(atb);
+      const Vec3 d = centre[f0] - xbar;
+      const Eigen::RowVector3d u = Eigen::RowVector4d(1.0, d.x, d.y, d.z) * coef;
+      const Vec3 extrapolated(u(0), u(1), u(2));
+      if (extrapolated.Norm() > 0 && std::isfinite(extrapolated.Norm()))
+        localMean[f0] = extrapolated;
     }
   });
   std::map<std::pair<int, int>, std::vector<double>> boundary;

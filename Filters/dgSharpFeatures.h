@@ -47,6 +47,7 @@ struct SharpFeatureParameters
   int SearchDepth = 5;           // face steps beyond the first region face met (fits)
   int SmoothingPasses = 2;       // majority votes over the band's labels
   int SmoothingDepth = 2;        // face steps of the vote's neighbourhood
+  bool ExtrapolateSides = true;  // merges compare the sides' normal fields extrapolated to the boundary
   bool FitPlanes = true;         // local planes fitted to positions (else mean normals)
   double FitResidual = 0.3;      // edge lengths: a fit with a larger RMS residual is not used
   int MinimumSupport = 3;        // region faces needed for a local plane

@@ -1,6 +1,6 @@
 // libFuzzer target: small random voxel sets and random parameters through
 // vtkDigitalSurfaceFilter -> vtkIINormalEstimator -> vtkAmbrosioTortorelliFilter,
-// and through vtkDigitalIslandFilter twice.
+// -> vtkSharpFeaturesFilter, and through vtkDigitalIslandFilter twice.
 // Any crash or sanitizer report fails; so does a non-finite or non-unit
 // normal in an output that was produced without an error, or a second island
 // pass that changes a voxel.
@@ -8,6 +8,9 @@
 #include "vtkDigitalIslandFilter.h"
 #include "vtkDigitalSurfaceFilter.h"
 #include "vtkIINormalEstimator.h"
+#include "vtkSharpFeaturesFilter.h"
+
+#include <vtkCellArray.h>
 
 #include <vtkCellData.h>
 #include <vtkCommand.h>
@@ -119,6 +122,26 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   {
     CheckUnit(ii->GetOutput()->GetCellData()->GetArray("IINormals"));
     CheckUnit(at->GetOutput(0)->GetCellData()->GetArray("ATNormals"));
+    // The sharp-features stage on AT's output (no byte of its own): unit
+    // normals, and every feature line between two faces' points.
+    vtkNew<vtkSharpFeaturesFilter> sharp;
+    sharp->AddObserver(vtkCommand::ErrorEvent, quiet);
+    sharp->AddObserver(vtkCommand::WarningEvent, quiet);
+    sharp->SetInputConnection(at->GetOutputPort());
+    sharp->SetMinimumRegionSize(1 + (nx + ny * nz) % 40);
+    sharp->Update();
+    if (quiet->Errors == 0)
+    {
+      CheckUnit(sharp->GetOutput(0)->GetCellData()->GetArray("SharpNormals"));
+      const vtkIdType np = sharp->GetOutput(0)->GetNumberOfPoints();
+      vtkCellArray* lines = sharp->GetOutput(1)->GetLines();
+      vtkDataArray* conn = lines ? lines->GetConnectivityArray() : nullptr;
+      for (vtkIdType i = 0; conn && i < conn->GetNumberOfValues(); ++i)
+      {
+        if (conn->GetTuple1(i) < 0 || conn->GetTuple1(i) >= np)
+          std::abort();
+      }
+    }
   }
 
   // The island filter on the same voxels, with no byte of its own (the
