@@ -1,6 +1,7 @@
 #include "dgImageInput.h"
 
 #include "vtkDGtalVolReader.h"
+#include "vtkNIfTIVolumeReader.h"
 
 #include <vtkCallbackCommand.h>
 #include <vtkDICOMImageReader.h>
@@ -72,7 +73,7 @@ std::string Extension(const std::string& path)
   return e;
 }
 
-vtkSmartPointer<vtkImageData> ReadImage(const std::string& path, std::string& error)
+vtkSmartPointer<vtkImageData> ReadImage(const std::string& path, std::string& error, bool ras)
 {
   ErrorSink sink;
   vtkNew<vtkCallbackCommand> cb;
@@ -95,6 +96,19 @@ vtkSmartPointer<vtkImageData> ReadImage(const std::string& path, std::string& er
   {
     auto r = vtkSmartPointer<vtkDGtalVolReader>::New();
     r->SetFileName(path.c_str());
+    reader = r;
+  }
+  else if (ext == "nii" || (ext == "gz" && path.size() > 7 &&
+             Extension(path.substr(0, path.size() - 3)) == "nii"))
+  {
+    auto r = vtkSmartPointer<vtkNIfTIVolumeReader>::New();
+    if (!r->CanReadFile(path.c_str()))
+    {
+      error = "'" + path + "' is not a readable NIfTI file";
+      return nullptr;
+    }
+    r->SetFileName(path.c_str());
+    r->SetCoordinateSystem(ras ? vtkNIfTIVolumeReader::RAS : vtkNIfTIVolumeReader::LPS);
     reader = r;
   }
   else if (ext == "vti")
@@ -134,7 +148,7 @@ vtkSmartPointer<vtkImageData> ReadImage(const std::string& path, std::string& er
   else
   {
     error = "unknown input format '" + (ext.empty() ? path : "." + ext) +
-      "' (expected .vol, .vti, .mha, .mhd, .nrrd, .nhdr, .dcm or a DICOM directory)";
+      "' (expected .vol, .vti, .nii, .nii.gz, .mha, .mhd, .nrrd, .nhdr, .dcm or a DICOM directory)";
     return nullptr;
   }
   reader->AddObserver(vtkCommand::ErrorEvent, cb);

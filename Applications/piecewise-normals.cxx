@@ -46,6 +46,7 @@ struct Options
   dg::PipelineSettings P;
   // Outputs.
   bool Png = true, Panels = false, Ply = false, Obj = false, Quiet = false;
+  bool Ras = false; // NIfTI inputs in RAS instead of LPS
   int Width = 1200, Height = 900;
 };
 
@@ -59,9 +60,11 @@ segmented volume and delineates its sharp features (Coeurjolly, Foare, Gueth,
 Lachaud, Pacific Graphics 2016): volume -> voxel-face surface -> integral-
 invariant normals -> Ambrosio-Tortorelli regularisation -> files + picture.
 
-INPUT   a DGtal .vol (Version 2 or 3), VTK .vti, MetaImage .mha/.mhd, NRRD
-        .nrrd/.nhdr, a DICOM file (.dcm) or a directory of DICOM slices. With
-        no INPUT: a built-in shape (rotated cube + sphere - cylinder, 96^3).
+INPUT   a DGtal .vol (Version 2 or 3), VTK .vti, NIfTI .nii/.nii.gz (its
+        sform or qform: outputs in LPS patient coordinates, or RAS with --ras),
+        MetaImage .mha/.mhd, NRRD .nrrd/.nhdr, a DICOM file (.dcm) or a
+        directory of DICOM slices. With no INPUT: a built-in shape (rotated
+        cube + sphere - cylinder, 96^3).
 
 Inside voxels (default: value != 0)
   --label L              voxels whose value is L (label maps)
@@ -228,6 +231,8 @@ Options ParseOptions(int argc, char* argv[])
       else
         OptionError("--solver expects ic, cg, ldlt or cholmod (got '" + v + "')");
     }
+    else if (arg == "--ras")
+      o.Ras = true;
     else if (arg == "--no-png")
       o.Png = false;
     else if (arg == "--panels")
@@ -373,6 +378,13 @@ std::string Stem(const std::string& path)
   const auto slash = s.find_last_of('/');
   if (slash != std::string::npos)
     s = s.substr(slash + 1);
+  // "scan.nii.gz" -> "scan": a compressed file's two extensions go.
+  for (const char* two : { ".nii.gz", ".vol.gz" })
+  {
+    const std::string t = two;
+    if (s.size() > t.size() && s.compare(s.size() - t.size(), t.size(), t) == 0)
+      return s.substr(0, s.size() - t.size());
+  }
   const auto dot = s.find_last_of('.');
   if (dot != std::string::npos && dot > 0)
     s = s.substr(0, dot);
@@ -440,7 +452,7 @@ int main(int argc, char* argv[])
   else
   {
     std::string error;
-    image = dg::ReadImage(opt.Input, error);
+    image = dg::ReadImage(opt.Input, error, opt.Ras);
     if (!image)
       return Fail(error);
     if (prefix.empty())

@@ -10,7 +10,7 @@ DG_PACKAGES=(
   build-essential cmake ninja-build pkg-config
   paraview paraview-dev python3-paraview libopenmpi-dev
   libeigen3-dev libsuitesparse-dev zlib1g-dev libgtest-dev
-  xvfb xauth python3-numpy python3-pydicom clang
+  xvfb xauth python3-numpy python3-pydicom python3-nibabel clang
   # find_package(ParaView) loads ParaView's whole VTK, whose CMake config
   # looks for these development packages (paraview-dev does not pull them).
   libdouble-conversion-dev liblz4-dev liblzma-dev libexpat1-dev libutfcpp-dev

@@ -183,6 +183,44 @@ if exact_u is not None and ref_u is not None:
 else:
     check(False, "LDLt run gives ATNormals")
 
+# File > Open on a .nii.gz: the plugin's NIfTI reader, with the file's
+# orientation on the image (here an oblique sform, in LPS).
+try:
+    import numpy as np
+    import nibabel as nib
+except ImportError:
+    nib = None
+check(nib is not None, "nibabel available for the NIfTI check")
+if nib is not None:
+    cth, sth = np.cos(0.5), np.sin(0.5)
+    A = np.array([[cth * 0.8, -sth * 0.9, 0, 3.0], [sth * 0.8, cth * 0.9, 0, -4.0], [0, 0, 1.5, 5.0], [0, 0, 0, 1]])
+    vox = np.zeros((12, 10, 8), np.uint8)
+    vox[3:9, 2:8, 2:6] = 1
+    img = nib.Nifti1Image(vox, A)
+    img.set_qform(A, code=1)
+    img.set_sform(A, code=1)
+    nii = os.path.join(TMP, "oblique.nii.gz")
+    nib.save(img, nii)
+    nreader = OpenDataFile(nii)
+    check(nreader is not None and nreader.GetXMLName() == "NIfTIVolumeReader",
+          "File > Open on .nii.gz picks the NIfTI Volume Reader (%s)"
+          % (nreader.GetXMLName() if nreader else None))
+    if nreader is not None:
+        nimage = servermanager.Fetch(nreader)
+        stored = nib.load(nii).get_sform()
+        o = np.array(nimage.GetOrigin())
+        d = np.array([[nimage.GetDirectionMatrix().GetElement(i, j) for j in range(3)] for i in range(3)])
+        sp = np.array(nimage.GetSpacing())
+        lps = np.diag([-1.0, -1.0, 1.0])
+        ok = np.allclose(d @ np.diag(sp), lps @ stored[:3, :3], atol=1e-9) and np.allclose(o, lps @ stored[:3, 3])
+        check(ok, "the image carries the sform in LPS (origin %s)" % o)
+        nsurface = DigitalSurface(Input=nreader)
+        nsurface.UpdatePipeline()
+        check(servermanager.Fetch(nsurface).GetNumberOfPolys() == 2 * (36 + 24 + 24),
+              "Digital Surface on it: the block's quads")
+        Delete(nsurface)
+        Delete(nreader)
+
 # Sharp Features after AT (back on the default solver): the same lines and
 # normals as the class on the C++ pipeline, fewer lines than AT's band.
 at.LinearSolver = "Conjugate gradients, incomplete Cholesky"

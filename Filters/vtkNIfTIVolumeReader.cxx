@@ -1,0 +1,232 @@
+#include "vtkNIfTIVolumeReader.h"
+
+#include <vtkCommand.h>
+#include <vtkDataArray.h>
+#include <vtkImageData.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkMatrix3x3.h>
+#include <vtkMatrix4x4.h>
+#include <vtkNIFTIImageHeader.h>
+#include <vtkNIFTIImageReader.h>
+#include <vtkNew.h>
+#include <vtkObjectFactory.h>
+#include <vtkPointData.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
+
+#include <cmath>
+#include <sstream>
+
+vtkStandardNewMacro(vtkNIfTIVolumeReader);
+
+vtkNIfTIVolumeReader::vtkNIfTIVolumeReader()
+{
+  this->SetNumberOfInputPorts(0);
+}
+
+vtkNIfTIVolumeReader::~vtkNIfTIVolumeReader()
+{
+  this->SetFileName(nullptr);
+}
+
+int vtkNIfTIVolumeReader::CanReadFile(const char* fname)
+{
+  vtkNew<vtkNIFTIImageReader> r;
+  return fname && r->CanReadFile(fname) ? 1 : 0;
+}
+
+namespace
+{
+// vtkNIFTIImageReader with its errors collected instead of printed.
+struct Quiet : public vtkCommand
+{
+  static Quiet* New() { return new Quiet; }
+  void Execute(vtkObject*, unsigned long, void* data) override
+  {
+    if (this->Message.empty() && data)
+      this->Message = static_cast<const char*>(data);
+  }
+  std::string Message;
+};
+}
+
+bool vtkNIfTIVolumeReader::Geometry(
+  double origin[3], double spacing[3], double direction[9], std::string& error)
+{
+  if (!this->FileName || !*this->FileName)
+  {
+    error = "no FileName set";
+    return false;
+  }
+  vtkNew<vtkNIFTIImageReader> r;
+  vtkNew<Quiet> quiet;
+  r->AddObserver(vtkCommand::ErrorEvent, quiet);
+  if (!r->CanReadFile(this->FileName))
+  {
+    error = std::string(this->FileName) + ": not a NIfTI file (or it cannot be opened)";
+    return false;
+  }
+  r->SetFileName(this->FileName);
+  r->UpdateInformation();
+  if (!quiet->Message.empty())
+  {
+    error = std::string(this->FileName) + ": " + quiet->Message;
+    return false;
+  }
+  vtkNIFTIImageHeader* h = r->GetNIFTIHeader();
+  vtkMatrix4x4* m = nullptr;
+  this->GeometrySource = NONE;
+  if (h && h->GetSFormCode() > 0 && r->GetSFormMatrix())
+  {
+    m = r->GetSFormMatrix();
+    this->GeometrySource = SFORM;
+  }
+  else if (h && h->GetQFormCode() > 0 && r->GetQFormMatrix())
+  {
+    m = r->GetQFormMatrix();
+    this->GeometrySource = QFORM;
+  }
+  vtkInformation* info = r->GetOutputInformation(0);
+  double s[3] = { 1, 1, 1 }, o[3] = { 0, 0, 0 };
+  if (info->Has(vtkDataObject::SPACING()))
+    info->Get(vtkDataObject::SPACING(), s);
+  if (info->Has(vtkDataObject::ORIGIN()))
+    info->Get(vtkDataObject::ORIGIN(), o);
+  // world = R (o + s * index) + t, with R = m's 3x3 and t its offset.
+  double R[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 }, t[3] = { 0, 0, 0 };
+  if (m)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      for (int b = 0; b < 3; ++b)
+        R[3 * a + b] = m->GetElement(a, b);
+      t[a] = m->GetElement(a, 3);
+    }
+  }
+  else
+  {
+    vtkWarningMacro(<< this->FileName
+                    << ": no qform or sform in the header: voxel size only, no orientation");
+  }
+  for (int c = 0; c < 3; ++c)
+  {
+    const double len = std::sqrt(R[c] * R[c] + R[3 + c] * R[3 + c] + R[6 + c] * R[6 + c]);
+    if (!(len > 0) || !std::isfinite(len) || !(s[c] > 0))
+    {
+      error = std::string(this->FileName) + ": degenerate voxel axis " + std::to_string(c) +
+        " in the header transform";
+      return false;
+    }
+    spacing[c] = s[c] * len;
+    for (int a = 0; a < 3; ++a)
+      direction[3 * a + c] = R[3 * a + c] / len;
+  }
+  // The columns must be orthogonal: a shear cannot be carried by origin,
+  // spacing and direction, and applying it approximately would put the
+  // surface in the wrong place.
+  for (int c = 0; c < 3; ++c)
+    for (int d = c + 1; d < 3; ++d)
+    {
+      double dot = 0;
+      for (int a = 0; a < 3; ++a)
+        dot += direction[3 * a + c] * direction[3 * a + d];
+      if (std::abs(dot) > 1e-4)
+      {
+        std::ostringstream e;
+        e << this->FileName << ": the " << (this->GeometrySource == SFORM ? "sform" : "qform")
+          << " is sheared (voxel axes " << c << " and " << d << " at "
+          << std::acos(std::max(-1.0, std::min(1.0, dot))) * 180.0 / M_PI
+          << " degrees, not 90): resample the volume onto an orthogonal grid first";
+        error = e.str();
+        return false;
+      }
+    }
+  for (int a = 0; a < 3; ++a)
+    origin[a] = t[a] + R[3 * a] * o[0] + R[3 * a + 1] * o[1] + R[3 * a + 2] * o[2];
+  if (this->CoordinateSystem == LPS)
+  {
+    // LPS = diag(-1, -1, 1) RAS.
+    for (int a = 0; a < 2; ++a)
+    {
+      origin[a] = -origin[a];
+      for (int c = 0; c < 3; ++c)
+        direction[3 * a + c] = -direction[3 * a + c];
+    }
+  }
+  return true;
+}
+
+int vtkNIfTIVolumeReader::RequestInformation(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  double origin[3], spacing[3], direction[9];
+  std::string error;
+  if (!this->Geometry(origin, spacing, direction, error))
+  {
+    vtkErrorMacro(<< error);
+    return 0;
+  }
+  vtkNew<vtkNIFTIImageReader> r;
+  r->SetFileName(this->FileName);
+  r->UpdateInformation();
+  vtkInformation* in = r->GetOutputInformation(0);
+  vtkInformation* out = outputVector->GetInformationObject(0);
+  int ext[6];
+  in->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), ext);
+  out->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), ext, 6);
+  out->Set(vtkDataObject::SPACING(), spacing, 3);
+  out->Set(vtkDataObject::ORIGIN(), origin, 3);
+  out->Set(vtkDataObject::DIRECTION(), direction, 9);
+  if (vtkInformation* scalar = vtkDataObject::GetActiveFieldInformation(
+        in, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS))
+  {
+    vtkDataObject::SetPointDataActiveScalarInfo(out,
+      scalar->Get(vtkDataObject::FIELD_ARRAY_TYPE()),
+      scalar->Get(vtkDataObject::FIELD_NUMBER_OF_COMPONENTS()));
+  }
+  return 1;
+}
+
+int vtkNIfTIVolumeReader::RequestData(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  vtkImageData* output = vtkImageData::GetData(outputVector);
+  double origin[3], spacing[3], direction[9];
+  std::string error;
+  if (!this->Geometry(origin, spacing, direction, error))
+  {
+    vtkErrorMacro(<< error);
+    output->Initialize();
+    return 0;
+  }
+  vtkNew<vtkNIFTIImageReader> r;
+  vtkNew<Quiet> quiet;
+  r->AddObserver(vtkCommand::ErrorEvent, quiet);
+  r->SetFileName(this->FileName);
+  r->Update();
+  vtkImageData* image = r->GetOutput();
+  const vtkIdType n = image ? image->GetNumberOfPoints() : 0;
+  vtkDataArray* scalars = image ? image->GetPointData()->GetScalars() : nullptr;
+  if (!quiet->Message.empty() || n == 0 || !scalars || scalars->GetNumberOfTuples() != n)
+  {
+    vtkErrorMacro(<< this->FileName << ": "
+                  << (quiet->Message.empty() ? "no voxel data (truncated or corrupt file?)"
+                                             : quiet->Message));
+    output->Initialize();
+    return 0;
+  }
+  output->ShallowCopy(image);
+  output->SetOrigin(origin);
+  output->SetSpacing(spacing);
+  output->SetDirectionMatrix(direction);
+  return 1;
+}
+
+void vtkNIfTIVolumeReader::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  const char* sources[] = { "none", "qform", "sform" };
+  os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
+  os << indent << "CoordinateSystem: " << (this->CoordinateSystem == LPS ? "LPS" : "RAS") << "\n";
+  os << indent << "GeometrySource: " << sources[this->GeometrySource] << "\n";
+}
