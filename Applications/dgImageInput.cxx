@@ -19,6 +19,11 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <utility>
+#include <vector>
 
 namespace dg
 {
@@ -57,6 +62,94 @@ bool IsFile(const std::string& path)
 {
   struct stat st;
   return stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+}
+
+// The header lines of a MetaImage or NRRD file (text up to the data; at most
+// 64 KiB), lower-cased keys: what VTK's readers would silently drop.
+std::vector<std::pair<std::string, std::string>> HeaderFields(const std::string& path, char separator)
+{
+  std::vector<std::pair<std::string, std::string>> fields;
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  std::size_t read = 0;
+  while (read < 65536 && std::getline(in, line))
+  {
+    read += line.size() + 1;
+    if (!line.empty() && line.back() == '\r')
+      line.pop_back();
+    if (line.empty())
+      break; // NRRD: the blank line before the data
+    const auto at = line.find(separator);
+    if (at == std::string::npos)
+      continue;
+    std::string key = line.substr(0, at), value = line.substr(at + 1);
+    auto trim = [](std::string& t) {
+      while (!t.empty() && std::isspace(static_cast<unsigned char>(t.front())))
+        t.erase(t.begin());
+      while (!t.empty() && std::isspace(static_cast<unsigned char>(t.back())))
+        t.pop_back();
+    };
+    trim(key);
+    trim(value);
+    std::transform(key.begin(), key.end(), key.begin(), [](unsigned char c) { return std::tolower(c); });
+    fields.emplace_back(key, value);
+    if (key == "elementdatafile")
+      break; // MetaImage: the data follow
+  }
+  return fields;
+}
+
+std::vector<double> Numbers(const std::string& text)
+{
+  std::vector<double> out;
+  std::string t = text;
+  for (char& c : t)
+    if (c == '(' || c == ')' || c == ',')
+      c = ' ';
+  std::istringstream ss(t);
+  double v;
+  while (ss >> v)
+    out.push_back(v);
+  return out;
+}
+
+// Geometry that VTK's MetaImage and NRRD readers ignore: refused with a
+// message rather than silently straightened (world coordinates would be
+// wrong). Empty when the file's geometry is what the reader produces.
+std::string UnsupportedGeometry(const std::string& path, bool nrrd)
+{
+  for (const auto& f : HeaderFields(path, nrrd ? ':' : '='))
+  {
+    if (!nrrd && (f.first == "transformmatrix" || f.first == "rotation" || f.first == "orientation"))
+    {
+      const auto m = Numbers(f.second);
+      bool identity = m.size() == 9;
+      for (std::size_t i = 0; identity && i < 9; ++i)
+        identity = std::abs(m[i] - ((i % 4) == 0 ? 1.0 : 0.0)) < 1e-6;
+      if (!identity)
+        return "its " + f.first + " (" + f.second + ") turns or flips the voxel axes, which this reader "
+          "would drop: convert the volume to NIfTI (.nii.gz) or .vti with its direction";
+    }
+    if (nrrd && f.first == "space directions")
+    {
+      const auto m = Numbers(f.second);
+      bool diagonal = m.size() == 9;
+      for (std::size_t i = 0; diagonal && i < 9; ++i)
+        diagonal = (i % 4) == 0 ? m[i] > 0 : std::abs(m[i]) < 1e-9;
+      if (!diagonal)
+        return "its space directions (" + f.second + ") turn or flip the voxel axes, which this reader "
+          "would drop: convert the volume to NIfTI (.nii.gz) or .vti with its direction";
+    }
+    if (nrrd && f.first == "space")
+    {
+      std::string v = f.second;
+      std::transform(v.begin(), v.end(), v.begin(), [](unsigned char c) { return std::tolower(c); });
+      if (v != "left-posterior-superior" && v != "lps")
+        return "its space '" + f.second + "' is not LPS, the patient coordinates every other input "
+          "is read in: convert the volume to NIfTI (.nii.gz) or .vti";
+    }
+  }
+  return "";
 }
 } // namespace
 
@@ -125,6 +218,11 @@ vtkSmartPointer<vtkImageData> ReadImage(const std::string& path, std::string& er
       error = "'" + path + "' is not a readable MetaImage file";
       return nullptr;
     }
+    if (const std::string why = UnsupportedGeometry(path, false); !why.empty())
+    {
+      error = "cannot read '" + path + "': " + why;
+      return nullptr;
+    }
     r->SetFileName(path.c_str());
     reader = r;
   }
@@ -134,6 +232,11 @@ vtkSmartPointer<vtkImageData> ReadImage(const std::string& path, std::string& er
     if (!r->CanReadFile(path.c_str()))
     {
       error = "'" + path + "' is not a readable NRRD file";
+      return nullptr;
+    }
+    if (const std::string why = UnsupportedGeometry(path, true); !why.empty())
+    {
+      error = "cannot read '" + path + "': " + why;
       return nullptr;
     }
     r->SetFileName(path.c_str());

@@ -201,6 +201,16 @@ bad_cases = [
     ("not a number", ["--alpha", "abc"], 2),
     ("unknown option", ["--frobnicate"], 2),
     ("unknown solver", ["--solver", "gauss"], 2),
+    ("oblique MetaImage", [write("oblique.mha", ("ObjectType = Image\nNDims = 3\nDimSize = %d %d %d\n"
+        "ElementSpacing = 1 1 1\nOffset = 0 0 0\nTransformMatrix = 0 1 0 -1 0 0 0 0 1\n"
+        "ElementType = MET_UCHAR\nElementDataFile = LOCAL\n" % (N, N, N)).encode() + voxels)], 1),
+    ("oblique NRRD", [write("oblique.nrrd", ("NRRD0004\ntype: uint8\ndimension: 3\nsizes: %d %d %d\n"
+        "space: left-posterior-superior\nspace directions: (0,1,0) (1,0,0) (0,0,1)\nencoding: raw\n\n"
+        % (N, N, N)).encode() + voxels)], 1),
+    ("RAS NRRD", [write("ras.nrrd", ("NRRD0004\ntype: uint8\ndimension: 3\nsizes: %d %d %d\n"
+        "space: right-anterior-superior\nspace directions: (1,0,0) (0,1,0) (0,0,1)\nencoding: raw\n\n"
+        % (N, N, N)).encode() + voxels)], 1),
+    ("not a NIfTI file", [write("not-really.nii", b"not a nifti file at all")], 1),
     ("negative component size", ["--min-component", "-1"], 2),
     ("fractional component size", ["--min-component", "2.5"], 2),
 ]
