@@ -14,6 +14,15 @@
 //   II-r3/4/8    vtkIINormalEstimator, radius 3, 4, 8 voxels
 //   AT(II4)      vtkAmbrosioTortorelliFilter on II r=4, alpha 0.05, lambda 0.01
 //   AT(II8)      vtkAmbrosioTortorelliFilter on II r=8, alpha 0.1,  lambda 0.01
+//   program      the program's default pipeline (dg::Pipeline with default
+//                dg::PipelineSettings, Applications/dgPipeline.h) on the same
+//                noisy volume (its own noise off): islands and cavities below
+//                8 voxels removed, digital surface, II r=4, AT alpha 0.05
+//                lambda 0.005 (IC-CG), vtkSharpFeaturesFilter; the normals
+//                are SharpNormals and the lines the filter's port 1. Its
+//                surface has fewer surfels than the others' (no islands).
+//   program-plain  the same run's AT output (ATNormals and AT's feature
+//                edges), what `piecewise-normals --plain` writes
 // and the VTK pipeline (one value per triangle, true normal at the triangle's
 // centre):
 //   VTK          vtkDiscreteFlyingEdges3D (label 1) ->
@@ -33,16 +42,27 @@
 // both; "away" is split into "mid" (2 < d <= 8, within reach of the II r = 8
 // ball) and "far" (d > 8). Statistics: mean, median, 95th percentile of the
 // angle (degrees) to the true normal; cells are counted, not area-weighted.
+// Issue 15's normal errors (Testing/Cxx/dgFeatureMetrics.h) are three more
+// regions, on the UNORIENTED angle (min(a, 180 - a)) and only on the cells
+// whose centre is within 2 voxels of the true surface (|Value| <= 2):
+// "surface2" all of them, "edge1" / "edge3" those whose projected centre
+// (as for "near") is within 1 / 3 voxels of a true sharp edge. Triangle
+// centres for the VTK meshes, surfel centres otherwise.
 //
-// Features: AT's output port 1 (edges with v < 0.5 at both ends) and
-// vtkFeatureEdges (feature angle 30, feature edges only) on the smoothed VTK
-// mesh. Precision = share of the detected LENGTH within 1.5 voxels of a true
-// sharp edge (each segment sampled every 0.1 voxel); recall = share of the true
-// edges' length within 1.5 voxels of a detected segment (true edges sampled
-// every 0.25 voxel). Shapes without sharp edges (sphere) give no precision or
-// recall, only the detected (false) length.
+// Features: AT's output port 1 (edges with v < 0.5 at both ends), the sharp
+// filter's port 1 (program) and vtkFeatureEdges (feature angle 30, feature
+// edges only) on the smoothed VTK mesh, all scored by
+// dgtest::MeasureFeatures (issue 15's definitions, dgFeatureMetrics.h):
+// multiplicity = length of the segments whose midpoint is within 1.5 voxels
+// of a true sharp edge over the true edges' length; offset = mean distance of
+// those midpoints to the edge (length-weighted); precision = share of the
+// detected LENGTH whose segment midpoint is within 1.5 voxels of a true sharp
+// edge; recall = share of the true edges' length (sampled every 0.25 voxel)
+// within 1.5 voxels of a detected segment. Shapes without sharp edges
+// (sphere) give only the detected (false) length.
 //
-// Output: three CSV files (normals, features, times), one row per case.
+// Output: three CSV files (normals, features, times), one row per case and
+// method (and region / stage).
 //
 // Usage: BenchQuality [--sizes 64,128] [--noise 0,0.1,0.2,0.3,0.4,0.5]
 //          [--seeds 1,2] [--shapes
@@ -59,7 +79,12 @@
 //                        tables in docs/quality.md were made with it)
 //   --at-iterations N  AT's MaximumIterations per epsilon level (default 5)
 //   --no-vtk       skips the VTK pipelines
+//   --no-program   skips the program rows
+//   --save-volumes DIR  also writes each case's noisy volume (what every
+//                  method sees) as DIR/SHAPE-N-kK-sSEED.vti
+#include "dgFeatureMetrics.h"
 #include "dgGroundTruth.h"
+#include "dgPipeline.h"
 #include "vtkAmbrosioTortorelliFilter.h"
 #include "vtkDigitalNoiseFilter.h"
 #include "vtkDigitalSurfaceFilter.h"
@@ -79,6 +104,7 @@
 #include <vtkPolyDataNormals.h>
 #include <vtkSMPTools.h>
 #include <vtkWindowedSincPolyDataFilter.h>
+#include <vtkXMLImageDataWriter.h>
 
 #include <algorithm>
 #include <chrono>
@@ -100,7 +126,7 @@ using Clock = std::chrono::steady_clock;
 constexpr double NaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double NearEdge = 2.0;   // voxels
 constexpr double FarEdge = 8.0;    // voxels: beyond the largest II ball
-constexpr double FeatureTol = 1.5; // voxels
+constexpr double SurfaceBand = 2.0; // voxels from the true surface (issue 15)
 
 double Seconds(Clock::time_point t0)
 {
@@ -173,6 +199,7 @@ Stats Compute(std::vector<double> e)
 struct Truth
 {
   std::vector<V3> Normal;
+  std::vector<double> Value;        // the shape's signed function at the centre
   std::vector<double> EdgeDistance; // capped: any value > FarEdge means "far"
 };
 
@@ -180,6 +207,7 @@ Truth MakeTruth(const dgtest::ImplicitShape& shape, const std::vector<V3>& centr
 {
   Truth t;
   t.Normal.resize(centres.size());
+  t.Value.resize(centres.size());
   t.EdgeDistance.resize(centres.size());
   vtkSMPTools::For(0,
     static_cast<vtkIdType>(centres.size()),
@@ -193,7 +221,8 @@ Truth MakeTruth(const dgtest::ImplicitShape& shape, const std::vector<V3>& centr
         // cells in from a corner is still judged by where they belong.
         const V3 n = shape.Normal(centres[i]);
         t.Normal[i] = n;
-        const V3 onSurface = centres[i] - shape.Value(centres[i]) * n;
+        t.Value[i] = shape.Value(centres[i]);
+        const V3 onSurface = centres[i] - t.Value[i] * n;
         t.EdgeDistance[i] = shape.DistanceToSharpEdge(onSurface, FarEdge + 1.0);
       }
     });
@@ -240,7 +269,7 @@ void WriteErrors(Output& out,
   const std::vector<V3>& normals,
   std::map<std::string, Stats>* keep = nullptr)
 {
-  std::vector<double> all, nearE, away, mid, far;
+  std::vector<double> all, nearE, away, mid, far, band, edge1, edge3;
   if (normals.size() != truth.Normal.size())
   {
     std::fprintf(stderr,
@@ -259,10 +288,20 @@ void WriteErrors(Output& out,
     (d <= NearEdge ? nearE : away).push_back(a);
     if (d > NearEdge)
       (d <= FarEdge ? mid : far).push_back(a);
+    // Issue 15 (dgFeatureMetrics.h): unoriented, near the true surface only.
+    if (std::abs(truth.Value[i]) <= SurfaceBand)
+    {
+      const double u = std::min(a, 180.0 - a);
+      band.push_back(u);
+      if (d <= 1.0)
+        edge1.push_back(u);
+      if (d <= 3.0)
+        edge3.push_back(u);
+    }
   }
-  const std::pair<const char*, std::vector<double>*> regions[] = {
-    { "all", &all }, { "near", &nearE }, { "away", &away }, { "mid", &mid }, { "far", &far }
-  };
+  const std::pair<const char*, std::vector<double>*> regions[] = { { "all", &all },
+    { "near", &nearE }, { "away", &away }, { "mid", &mid }, { "far", &far },
+    { "surface2", &band }, { "edge1", &edge1 }, { "edge3", &edge3 } };
   for (const auto& r : regions)
   {
     const Stats s = Compute(*r.second);
@@ -277,56 +316,26 @@ void WriteErrors(Output& out,
 struct FeatureScore
 {
   double Length = 0, Precision = NaN, Recall = NaN, F1 = NaN;
+  double Multiplicity = NaN, Offset = NaN;
   int Iterations = 0; // AT: (u, v) step pairs made
 };
 
 // Line cells of `lines` (2-point segments or polylines) against the shape's
-// sharp edges.
+// sharp edges, with issue 15's definitions (dgtest::MeasureFeatures). NaN
+// where a figure is undefined: every figure but the length on a shape
+// without sharp edges, precision with no line at all, offset with no line
+// near an edge.
 FeatureScore ScoreFeatures(vtkPolyData* lines, const dgtest::ImplicitShape& shape)
 {
+  const dgtest::FeatureMetrics m = dgtest::MeasureFeatures(shape, nullptr, nullptr, lines);
   FeatureScore f;
-  dgtest::PolylineDistance detected;
-  double within = 0;
-  const bool hasEdges = shape.SharpEdges().Size() > 0;
-  vtkCellArray* ca = lines ? lines->GetLines() : nullptr;
-  if (ca)
-  {
-    vtkNew<vtkIdList> ids;
-    for (ca->InitTraversal(); ca->GetNextCell(ids);)
-    {
-      for (vtkIdType j = 0; j + 1 < ids->GetNumberOfIds(); ++j)
-      {
-        double pa[3], pb[3];
-        lines->GetPoint(ids->GetId(j), pa);
-        lines->GetPoint(ids->GetId(j + 1), pb);
-        const V3 a(pa[0], pa[1], pa[2]), b(pb[0], pb[1], pb[2]);
-        const double l = (b - a).norm();
-        f.Length += l;
-        detected.AddSegment(a, b);
-        if (hasEdges && l > 0)
-        {
-          const int m = std::max(1, static_cast<int>(std::ceil(l / 0.1)));
-          int ok = 0;
-          for (int t = 0; t < m; ++t)
-          {
-            const V3 p = a + (b - a) * ((t + 0.5) / m);
-            ok += shape.DistanceToSharpEdge(p, 2 * FeatureTol) <= FeatureTol;
-          }
-          within += l * ok / m;
-        }
-      }
-    }
-  }
-  if (!hasEdges)
+  f.Length = m.Length;
+  if (shape.SharpEdges().Size() == 0)
     return f;
-  f.Precision = f.Length > 0 ? within / f.Length : NaN;
-  const auto samples = shape.SharpEdgeSamples(0.25);
-  std::size_t hit = 0;
-  for (const auto& p : samples)
-  {
-    hit += detected.Size() && detected.Distance(p, 2 * FeatureTol) <= FeatureTol;
-  }
-  f.Recall = samples.empty() ? NaN : double(hit) / samples.size();
+  f.Multiplicity = m.Multiplicity;
+  f.Offset = m.Multiplicity > 0 ? m.Offset : NaN;
+  f.Precision = m.Length > 0 ? m.Precision : NaN;
+  f.Recall = m.Recall;
   const double p = std::isnan(f.Precision) ? 0.0 : f.Precision;
   f.F1 = p + f.Recall > 0 ? 2 * p * f.Recall / (p + f.Recall) : 0.0;
   return f;
@@ -336,7 +345,7 @@ void WriteFeatures(Output& out, const Row& row, const std::string& method, const
 {
   out.FeaturesCsv << row.Shape << ',' << row.N << ',' << row.K << ',' << row.Seed << ',' << method
                   << ',' << f.Length << ',' << f.Precision << ',' << f.Recall << ',' << f.F1 << ','
-                  << f.Iterations << '\n';
+                  << f.Iterations << ',' << f.Multiplicity << ',' << f.Offset << '\n';
 }
 
 void WriteTime(Output& out, const Row& row, const std::string& stage, double s, vtkIdType cells)
@@ -466,9 +475,80 @@ struct Settings
   std::vector<ATConfig> AT = { { 4, 0.05, 0.01, 0.25, "AT(II4)" },
     { 8, 0.1, 0.01, 0.25, "AT(II8)" } };
   bool VTK = true;
+  bool Program = true;
+  bool Check = false;
+  std::string SaveVolumes; // directory, empty = none
   int Solver = vtkAmbrosioTortorelliFilter::CONJUGATE_GRADIENT;
   int MaximumIterations = 5;
 };
+
+// The program's default pipeline (dgPipeline.h) on the benchmark's noisy
+// volume: its own noise off, everything else at the defaults. Rows
+// "program" (sharp-features output) and "program-plain" (the same run's AT
+// output), each scored on the pipeline's own surface (islands removed).
+void RunProgram(Output& out,
+  const dgtest::ImplicitShape& shape,
+  vtkImageData* image,
+  const Row& row,
+  const Settings& settings,
+  CaseResult& res)
+{
+  dg::PipelineSettings ps;
+  ps.Noise = 0; // the benchmark added it already
+  dg::Pipeline p;
+  p.Build(image, ps);
+  for (const auto& stage : p.Stages)
+  {
+    const auto t0 = Clock::now();
+    stage.Algorithm->Update();
+    vtkPolyData* pd = vtkPolyData::SafeDownCast(stage.Algorithm->GetOutputDataObject(0));
+    WriteTime(out, row, "program " + stage.Name, Seconds(t0), pd ? pd->GetNumberOfPolys() : 0);
+  }
+  vtkPolyData* result = p.Result();
+  const auto centres = dgtest::SurfelCenters(result);
+  const Truth truth = MakeTruth(shape, centres);
+  struct Variant
+  {
+    const char* Name;
+    vtkPolyData* Surface;
+    const char* Normals;
+    vtkPolyData* Lines;
+  };
+  const Variant variants[] = { { "program", result, p.NormalsName(), p.Features() },
+    { "program-plain", p.AT->GetOutput(0), "ATNormals", p.AT->GetOutput(1) } };
+  for (const auto& v : variants)
+  {
+    WriteErrors(out, row, v.Name, truth, Normals(v.Surface, v.Normals), &res.Errors[v.Name]);
+    FeatureScore fs = ScoreFeatures(v.Lines, shape);
+    fs.Iterations = p.AT->GetNumberOfIterations();
+    WriteFeatures(out, row, v.Name, fs);
+    res.Features[v.Name] = fs;
+    if (settings.Check)
+    {
+      // The CSV's figures against dgtest::MeasureFeatures on the same output
+      // (the same definitions computed twice, by different code).
+      const dgtest::FeatureMetrics m =
+        dgtest::MeasureFeatures(shape, v.Surface, v.Normals, v.Lines);
+      const auto& e = res.Errors[v.Name];
+      auto same = [](double a, double b) {
+        return (std::isnan(a) && std::isnan(b)) || std::abs(a - b) <= 1e-9 * (1 + std::abs(b));
+      };
+      const bool hasEdges = shape.SharpEdges().Size() > 0;
+      const bool ok = same(e.at("surface2").Mean, m.MeanError) &&
+        same(e.at("edge1").Mean, m.Error1) && same(e.at("edge3").Mean, m.Error3) &&
+        same(fs.Length, m.Length) &&
+        (!hasEdges ||
+          (same(fs.Multiplicity, m.Multiplicity) && same(fs.Offset, m.Offset) &&
+            same(fs.Precision, m.Precision) && same(fs.Recall, m.Recall)));
+      if (!ok)
+      {
+        std::fprintf(stderr, "check failed: %s figures differ from MeasureFeatures: %s\n", v.Name,
+          m.Describe().c_str());
+        out.CheckFailed = true;
+      }
+    }
+  }
+}
 
 CaseResult RunCase(Output& out,
   const dgtest::ImplicitShape& shape,
@@ -485,6 +565,22 @@ CaseResult RunCase(Output& out,
   noise->Update();
   vtkImageData* image = noise->GetOutput();
   WriteTime(out, row, "noise", Seconds(t0), noise->GetNumberOfFlippedVoxels());
+  if (!settings.SaveVolumes.empty())
+  {
+    std::ostringstream name;
+    name << settings.SaveVolumes << '/' << row.Shape << '-' << row.N << "-k" << row.K << "-s"
+         << row.Seed << ".vti";
+    vtkNew<vtkXMLImageDataWriter> w;
+    w->SetInputData(image);
+    w->SetFileName(name.str().c_str());
+    w->SetDataModeToBinary();
+    w->SetCompressorTypeToZLib();
+    if (w->Write() != 1)
+    {
+      std::fprintf(stderr, "cannot write %s\n", name.str().c_str());
+      out.CheckFailed = true;
+    }
+  }
 
   // --- digital surface and its methods
   t0 = Clock::now();
@@ -543,6 +639,10 @@ CaseResult RunCase(Output& out,
     WriteFeatures(out, row, name, fs);
     res.Features[name] = fs;
   }
+
+  // --- the program's default pipeline, on the same noisy volume
+  if (settings.Program)
+    RunProgram(out, shape, image, row, settings, res);
 
   // --- the VTK user's pipeline: the usual recipe ("VTK") and a version tuned
   // for noise ("VTK-strong": largest component only, stronger smoothing)
@@ -621,6 +721,10 @@ int main(int argc, char* argv[])
       settings.MaximumIterations = std::max(1, std::atoi(argv[++a]));
     else if (arg == "--no-vtk")
       settings.VTK = false;
+    else if (arg == "--no-program")
+      settings.Program = false;
+    else if (arg == "--save-volumes" && hasValue)
+      settings.SaveVolumes = argv[++a];
     else if (arg == "--solver" && hasValue)
     {
       const std::string v = argv[++a];
@@ -630,7 +734,7 @@ int main(int argc, char* argv[])
                                          : vtkAmbrosioTortorelliFilter::CONJUGATE_GRADIENT;
     }
     else if (arg == "--check")
-      check = true;
+      check = settings.Check = true;
     else
     {
       std::fprintf(stderr,
@@ -658,7 +762,8 @@ int main(int argc, char* argv[])
   for (auto* f : { &out.NormalsCsv, &out.FeaturesCsv, &out.TimesCsv })
     f->precision(6);
   out.NormalsCsv << "shape,n,k,seed,method,region,count,mean,median,p95\n";
-  out.FeaturesCsv << "shape,n,k,seed,method,length,precision,recall,f1,iterations\n";
+  out.FeaturesCsv
+    << "shape,n,k,seed,method,length,precision,recall,f1,iterations,multiplicity,offset\n";
   out.TimesCsv << "shape,n,k,seed,stage,seconds,cells\n";
 
   std::printf("vtkSMPTools backend %s, %d threads\n",
@@ -731,6 +836,21 @@ int main(int argc, char* argv[])
             f1("VTK"),
             f1("VTK-strong"),
             Seconds(t0));
+          {
+            // Issue 15's figures for the methods with lines.
+            std::printf("    mult/offset/P/R | err surface2/edge1/edge3:");
+            for (const char* m : { "AT(II4)", "program-plain", "program", "VTK-strong" })
+            {
+              auto it = r.Features.find(m);
+              if (it == r.Features.end())
+                continue;
+              const auto& fs = it->second;
+              std::printf("  %s %.2f/%.2f/%.2f/%.2f | %.1f/%.1f/%.1f", m, fs.Multiplicity,
+                fs.Offset, fs.Precision, fs.Recall, e(m, "surface2"), e(m, "edge1"),
+                e(m, "edge3"));
+            }
+            std::printf("\n");
+          }
           for (const auto& cfg : settings.AT)
           {
             if (cfg.Name == "AT(II4)" || cfg.Name == "AT(II8)")
@@ -751,8 +871,11 @@ int main(int argc, char* argv[])
           if (check)
           {
             // Loose sanity bounds: every method ran and produced sane normals.
-            for (const char* m :
-              { "trivial", "II-r3", "II-r4", "II-r8", "AT(II4)", "AT(II8)", "VTK", "VTK-strong" })
+            std::vector<const char*> checked = { "trivial", "II-r3", "II-r4", "II-r8", "AT(II4)",
+              "AT(II8)", "VTK", "VTK-strong" };
+            if (settings.Program)
+              checked.insert(checked.end(), { "program", "program-plain" });
+            for (const char* m : checked)
             {
               const double all = e(m, "all");
               const std::string ms = m;

@@ -4,8 +4,8 @@
 Usage: /usr/bin/python3 Benchmarks/plot_quality.py [--docs DIR] PREFIX [PREFIX ...]
 
 Reads PREFIX_normals.csv, PREFIX_features.csv and PREFIX_times.csv written by
-BenchQuality, averages over seeds, writes DIR/quality_error.png and
-DIR/quality_features.png, and replaces the text between the markers
+BenchQuality, averages over seeds, writes DIR/quality_error.png,
+DIR/quality_features.png and DIR/quality_issue15.png, and replaces the text between the markers
 <!-- BEGIN GENERATED --> and <!-- END GENERATED --> in DIR/quality.md (the
 rest of the file, the hand-written notes, is kept). Needs numpy and
 matplotlib only (Debian: python3-numpy, python3-matplotlib).
@@ -24,8 +24,15 @@ import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.ticker  # noqa: E402
 import numpy as np  # noqa: E402
 
-METHODS = ["trivial", "II-r3", "II-r4", "II-r8", "AT(II4)", "AT(II8)", "VTK", "VTK-strong"]
-FEATURE_METHODS = ["AT(II4)", "AT(II8)", "VTK", "VTK-strong"]
+METHODS = ["trivial", "II-r3", "II-r4", "II-r8", "AT(II4)", "AT(II8)", "program-plain", "program",
+           "VTK", "VTK-strong"]
+FEATURE_METHODS = ["AT(II4)", "AT(II8)", "program-plain", "program", "VTK", "VTK-strong"]
+# Methods built on AT (the program's rows are AT followed, or not, by the
+# sharp-features stage).
+AT_BASED = ("AT(II4)", "AT(II8)", "program-plain", "program")
+# Issue 15's comparison: its shapes first, then the others.
+ISSUE15_METHODS = ["II-r4", "AT(II4)", "program-plain", "program", "VTK", "VTK-strong"]
+ISSUE15_SHAPES = ["cube", "octahedron", "cubesphere"]
 EDGE_SHAPES = ["cube", "cubesphere", "cylinder", "octahedron", "wedge"]
 ALL_SHAPES = ["sphere"] + EDGE_SHAPES
 BEGIN, END = "<!-- BEGIN GENERATED -->", "<!-- END GENERATED -->"
@@ -76,7 +83,7 @@ def main():
     feat = defaultdict(lambda: defaultdict(list))
     for r in features:
         key = (r["shape"], int(r["n"]), float(r["k"]), r["method"])
-        for s in ("length", "precision", "recall", "f1", "iterations"):
+        for s in ("length", "precision", "recall", "f1", "iterations", "multiplicity", "offset"):
             feat[key][s].append(fnum(r.get(s, "nan")))
     tim = defaultdict(list)
     cells = defaultdict(list)
@@ -170,22 +177,75 @@ def main():
                 fmt(Favg(edge_shapes, main_n, k, m, "recall"), 2) + " / " +
                 fmt(Favg(edge_shapes, main_n, k, m, "f1"), 2) for k in ks) + " |")
         if "sphere" in shapes_present:
-            w("| false edge length on the sphere (voxels): | | | | | | |")
+            w("| false edge length on the sphere (voxels): |" + " |" * len(ks))
             for m in FEATURE_METHODS:
                 w(f"| {m} | " + " | ".join(fmt(Fs("sphere", main_n, k, m, "length"), 0) for k in ks) + " |")
+        w("")
+
+    # Issue 15's metrics (Testing/Cxx/dgFeatureMetrics.h): summary over its
+    # shapes, then every shape; k = 0, 0.3, 0.5.
+    i15_shapes = [s for s in ISSUE15_SHAPES if s in shapes_present]
+
+    def mm(shape, n, k, m, region):
+        return fmt(E(shape, n, k, m, region)) + " (" + fmt(E(shape, n, k, m, region, "median")) + ")"
+
+    def i15_cells(shapes, n, k, m):
+        def avg(f):
+            # A mean over the shapes that have the figure; '*' when some
+            # have not (VTK-strong: no triangle centre within the band).
+            v = [f(s) for s in shapes]
+            missing = sum(math.isnan(x) for x in v)
+            return mean(v), "*" if 0 < missing < len(v) else ""
+
+        def cell(x, digits=2):
+            return fmt(x[0], digits) + x[1]
+
+        c = [cell(avg(lambda s: Fs(s, n, k, m, stat))) for stat in ("multiplicity", "offset", "precision", "recall")]
+        for region in ("surface2", "edge1", "edge3"):
+            c.append(cell(avg(lambda s: E(s, n, k, m, region)), 1) + " (" +
+                     cell(avg(lambda s: E(s, n, k, m, region, "median")), 1) + ")")
+        return c
+
+    header = ("| mult. | offset | precision | recall | error, all (median) | "
+              "≤ 1 voxel of an edge (median) | ≤ 3 voxels (median) |")
+    for n in sizes:
+        kk = [k for k in noise[n] if k in (0.0, 0.3, 0.5)]
+        if i15_shapes:
+            w(f"### Issue 15's metrics, {n}³: mean over {', '.join(i15_shapes)}")
+            w("")
+            w("Errors in degrees, mean (median) over the cells, then averaged over the shapes; "
+              "'*': the mean of the shapes that have the figure (the others have no cell in that region, "
+              "or no line near an edge for the offset).")
+            w("")
+            w("| k | method " + header)
+            w("|---:|---|" + "---:|" * 7)
+            for k in kk:
+                for m in ISSUE15_METHODS:
+                    w(f"| {k:g} | {m} | " + " | ".join(i15_cells(i15_shapes, n, k, m)) + " |")
+            w("")
+        w(f"### Issue 15's metrics per shape, {n}³")
+        w("")
+        w("| shape | k | method " + header)
+        w("|---|---:|---|" + "---:|" * 7)
+        order = i15_shapes + [s for s in shapes_present if s not in i15_shapes]
+        for s in order:
+            for k in kk:
+                for m in ISSUE15_METHODS:
+                    w(f"| {s} | {k:g} | {m} | " + " | ".join(i15_cells([s], n, k, m)) + " |")
         w("")
 
     # Per shape, per size, every k: mean near / away and F1 for the main methods.
     for n in sizes:
         w(f"### Per shape, {n}³: mean error near / away, feature F1")
         w("")
-        cols = ["II-r4", "II-r8", "AT(II4)", "AT(II8)", "VTK", "VTK-strong"]
-        w("| shape | k | " + " | ".join(cols) + " | F1 AT(II4) | F1 AT(II8) | F1 VTK | F1 VTK-strong |")
-        w("|---|---:|" + "---:|" * (len(cols) + 4))
+        cols = ["II-r4", "II-r8", "AT(II4)", "AT(II8)", "program", "VTK", "VTK-strong"]
+        fcols = ["AT(II4)", "AT(II8)", "program", "VTK", "VTK-strong"]
+        w("| shape | k | " + " | ".join(cols) + " | " + " | ".join(f"F1 {m}" for m in fcols) + " |")
+        w("|---|---:|" + "---:|" * (len(cols) + len(fcols)))
         for s in shapes_present:
             for k in noise[n]:
                 row = [fmt(E(s, n, k, m, "near")) + " / " + fmt(E(s, n, k, m, "away")) for m in cols]
-                row += [fmt(Fs(s, n, k, m, "f1"), 2) for m in FEATURE_METHODS]
+                row += [fmt(Fs(s, n, k, m, "f1"), 2) for m in fcols]
                 w(f"| {s} | {k:g} | " + " | ".join(row) + " |")
         w("")
 
@@ -193,11 +253,12 @@ def main():
     w("### Expected outcome, checked: best method per case for k ≥ 0.2")
     w("")
     w("Lowest mean error near edges, lowest away, best F1 (ties to the first listed). "
-      "'AT' = AT(II4) or AT(II8).")
+      "'AT-based' = AT(II4), AT(II8), program-plain or program.")
     w("")
     w("| n | shape | k | best near | best away | best F1 |")
     w("|---:|---|---:|---|---|---|")
     wins = {"near": [0, 0], "away": [0, 0], "f1": [0, 0]}
+    prog = {"near": 0, "away": 0, "f1": 0}
     for n in sizes:
         for s in shapes_present:
             for k in noise[n]:
@@ -210,16 +271,21 @@ def main():
                 bn_txt = bn if has_edges else "–"
                 bf_txt = bf if has_edges else "–"
                 if has_edges:
-                    wins["near"][0] += bn.startswith("AT")
+                    wins["near"][0] += bn in AT_BASED
                     wins["near"][1] += 1
-                    wins["f1"][0] += bf.startswith("AT")
+                    wins["f1"][0] += bf in AT_BASED
                     wins["f1"][1] += 1
-                wins["away"][0] += ba.startswith("AT")
+                    prog["near"] += bn == "program"
+                    prog["f1"] += bf == "program"
+                wins["away"][0] += ba in AT_BASED
                 wins["away"][1] += 1
+                prog["away"] += ba == "program"
                 w(f"| {n} | {s} | {k:g} | {bn_txt} | {ba} | {bf_txt} |")
     w("")
-    w(f"AT is best near edges in {wins['near'][0]}/{wins['near'][1]} cases, away from edges in "
-      f"{wins['away'][0]}/{wins['away'][1]}, and has the best F1 in {wins['f1'][0]}/{wins['f1'][1]}.")
+    w(f"An AT-based method is best near edges in {wins['near'][0]}/{wins['near'][1]} cases "
+      f"(the program in {prog['near']}), away from edges in {wins['away'][0]}/{wins['away'][1]} "
+      f"(the program in {prog['away']}), and has the best F1 in {wins['f1'][0]}/{wins['f1'][1]} "
+      f"(the program in {prog['f1']}).")
     w("")
 
     # Times.
@@ -240,9 +306,11 @@ def main():
         fmt(mean(cells.get((n, k, "digital surface"), [])), 0) for n, k in tk) + " |")
     w("| triangles (VTK) | " + " | ".join(
         fmt(mean(cells.get((n, k, "VTK flying edges"), [])), 0) for n, k in tk) + " |")
-    w("| AT(II4) / AT(II8) iterations | " + " | ".join(
-        fmt(mean([x for s in shapes_present for x in feat.get((s, n, k, "AT(II4)"), {}).get("iterations", [])]), 0) + " / " +
-        fmt(mean([x for s in shapes_present for x in feat.get((s, n, k, "AT(II8)"), {}).get("iterations", [])]), 0)
+    w("| surfels (program, islands removed) | " + " | ".join(
+        fmt(mean(cells.get((n, k, "program digital surface"), [])), 0) for n, k in tk) + " |")
+    w("| AT(II4) / AT(II8) / program iterations | " + " | ".join(
+        " / ".join(fmt(mean([x for s in shapes_present for x in feat.get((s, n, k, m), {}).get("iterations", [])]), 0)
+                   for m in ("AT(II4)", "AT(II8)", "program"))
         for n, k in tk) + " |")
     w("")
 
@@ -251,6 +319,7 @@ def main():
     ks = noise[main_n]
     styles = {"trivial": ("0.6", ":"), "II-r3": ("tab:olive", "--"), "II-r4": ("tab:green", "--"),
               "II-r8": ("tab:cyan", "--"), "AT(II4)": ("tab:red", "-"), "AT(II8)": ("tab:purple", "-"),
+              "program-plain": ("tab:brown", "-"), "program": ("black", "-"),
               "VTK": ("tab:blue", "-."), "VTK-strong": ("tab:orange", "-.")}
     fig, axes = plt.subplots(1, 3, figsize=(11, 3.4), dpi=80)
     panels = [("near", edge_shapes, "near sharp edges"), ("away", edge_shapes, "away from edges")]
@@ -289,6 +358,36 @@ def main():
     fig.savefig(os.path.join(args.docs, "quality_features.png"))
     plt.close(fig)
 
+    i15_shapes = [s for s in ISSUE15_SHAPES if s in shapes_present]
+    if i15_shapes:
+        fig, axes = plt.subplots(1, 4, figsize=(13, 3.2), dpi=80)
+        panels = [(("feature", "multiplicity"), "multiplicity"), (("feature", "precision"), "precision"),
+                  (("feature", "recall"), "recall"), (("normal", "edge1"), "mean error ≤ 1 voxel of an edge (deg)")]
+        for ax, ((kind, stat), title) in zip(axes, panels):
+            for m in ISSUE15_METHODS:
+                if kind == "feature" and m not in FEATURE_METHODS:
+                    continue
+                c, ls = styles[m]
+                ys = [Favg(i15_shapes, main_n, k, m, stat) if kind == "feature" else Eavg(i15_shapes, main_n, k, m, stat)
+                      for k in ks]
+                ax.plot(ks, ys, ls, color=c, marker=".", label=m)
+            ax.set_title(f"{title} ({main_n}³)", fontsize=9)
+            ax.set_xlabel("noise k")
+            if stat in ("precision", "recall"):
+                ax.set_ylim(0, 1.02)
+            if stat == "multiplicity":
+                ax.set_yscale("log")
+                ax.yaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+                ax.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+                ax.set_yticks([0.1, 0.2, 0.5, 1, 2, 5, 10, 20])
+                ax.set_ylim(0.05, 25)
+            ax.grid(True, which="both", alpha=0.3)
+        axes[-1].legend(fontsize=7)
+        fig.suptitle(f"issue 15's metrics, mean over {', '.join(i15_shapes)}", fontsize=9)
+        fig.tight_layout()
+        fig.savefig(os.path.join(args.docs, "quality_issue15.png"))
+        plt.close(fig)
+
     md = os.path.join(args.docs, "quality.md")
     text = open(md).read() if os.path.exists(md) else f"# Quality benchmark\n\n{BEGIN}\n{END}\n"
     if BEGIN not in text or END not in text:
@@ -297,7 +396,7 @@ def main():
     _, tail = rest.split(END, 1)
     with open(md, "w") as f:
         f.write(head + BEGIN + "\n" + "\n".join(out) + "\n" + END + tail)
-    print(f"wrote {md}, quality_error.png, quality_features.png in {args.docs}")
+    print(f"wrote {md}, quality_error.png, quality_features.png, quality_issue15.png in {args.docs}")
     return 0
 
 
