@@ -64,6 +64,8 @@ std::unique_ptr<dgtest::ImplicitShape> MakeShape(const std::string& name, int n)
     return dgtest::MakeCubeSphere(c, 0.3 * n, 0.38 * n);
   if (name == "octahedron")
     return dgtest::MakeOctahedron(c, 0.42 * n);
+  if (name == "cylinder")
+    return dgtest::MakeCylinder(c, 0.32 * n, 0.3 * n);
   if (name == "wedge")
     return dgtest::MakeWedge(c, 0.3 * n);
   return nullptr;
