@@ -315,7 +315,9 @@ TEST_P(ProgramDefaults, FeaturesAndNormalsOnGroundTruth)
   // What the stage is for: fewer, better placed lines than AT's ladders.
   EXPECT_LT(c.Multiplicity, clean.Plain.Multiplicity);
   if (!cs)
+  {
     EXPECT_LE(c.Error1, clean.Plain.Error1 + 1.0);
+  }
 
   for (int seed : { 1, 2 })
   {
