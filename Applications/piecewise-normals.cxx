@@ -47,6 +47,7 @@ struct Options
   // Outputs.
   bool Png = true, Panels = false, Ply = false, Obj = false, Quiet = false;
   bool Ras = false; // NIfTI inputs in RAS instead of LPS
+  std::string Compression = "lz4";
   int Width = 1200, Height = 900;
 };
 
@@ -107,6 +108,8 @@ Outputs (in --output-dir, named PREFIX_*; PREFIX defaults to the input's name)
                          instead of the default 2 x 2 grid at W x H
   --width W --height H   picture size in pixels (default 1200 x 900; with
                          --panels the height is W / 4 and H is not used)
+  --compression C        .vtp compression: lz4 (default, fast), zlib (files about
+                         1.35x smaller, 2-3x slower to write) or none
   --ply, --obj           also write the surface as PLY / OBJ
   --quiet                no progress bar
   -h, --help             this help
@@ -233,6 +236,12 @@ Options ParseOptions(int argc, char* argv[])
     }
     else if (arg == "--ras")
       o.Ras = true;
+    else if (arg == "--compression")
+    {
+      o.Compression = value();
+      if (o.Compression != "lz4" && o.Compression != "zlib" && o.Compression != "none")
+        OptionError("--compression expects lz4, zlib or none (got '" + o.Compression + "')");
+    }
     else if (arg == "--no-png")
       o.Png = false;
     else if (arg == "--panels")
@@ -495,7 +504,15 @@ int main(int argc, char* argv[])
     w->SetInputData(pd);
     w->SetFileName(files.Temporary(path).c_str());
     w->SetDataModeToBinary(); // appended data trips Debian's expat + VTK 9.2 reader
-    w->SetCompressorTypeToZLib();
+    // LZ4 by default: on octa-flower 512^3 it writes in 1.1-1.4 s against
+    // zlib's 2.8-3.4 s (a fifth of the whole program), for files 1.35x larger
+    // (101 against 74 MB).
+    if (opt.Compression == "zlib")
+      w->SetCompressorTypeToZLib();
+    else if (opt.Compression == "none")
+      w->SetCompressorTypeToNone();
+    else
+      w->SetCompressorTypeToLZ4();
     return written(w.Get());
   };
   if (!writeVtp(result, base + "_surface.vtp"))

@@ -211,6 +211,7 @@ bad_cases = [
         "space: right-anterior-superior\nspace directions: (1,0,0) (0,1,0) (0,0,1)\nencoding: raw\n\n"
         % (N, N, N)).encode() + voxels)], 1),
     ("not a NIfTI file", [write("not-really.nii", b"not a nifti file at all")], 1),
+    ("unknown compression", ["--compression", "bzip"], 2),
     ("negative component size", ["--min-component", "-1"], 2),
     ("fractional component size", ["--min-component", "2.5"], 2),
 ]
@@ -226,7 +227,7 @@ def read_vtp(out, name):
 
 p, out = run("--size", "48", "--no-png")
 default_surface, default_lines = read_vtp(out, "builtin_surface.vtp"), read_vtp(out, "builtin_features.vtp")
-p2, out2 = run("--size", "48", "--no-png", "--plain")
+p2, out2 = run("--size", "48", "--no-png", "--plain", "--compression", "zlib")
 plain_surface, plain_lines = read_vtp(out2, "builtin_surface.vtp"), read_vtp(out2, "builtin_features.vtp")
 active = default_surface.GetCellData().GetNormals()
 check(p.returncode == 0 and active is not None and active.GetName() == "SharpNormals"
@@ -238,7 +239,7 @@ check("inside components" in p.stdout and "one line per edge" in p.stdout,
 plain_active = plain_surface.GetCellData().GetNormals()
 check(p2.returncode == 0 and plain_active is not None and plain_active.GetName() == "ATNormals"
       and plain_surface.GetCellData().GetArray("SharpNormals") is None,
-      "--plain: the paper's output (ATNormals active, no SharpNormals)")
+      "--plain: the paper's output (ATNormals active, no SharpNormals), written with zlib")
 check(0 < default_lines.GetNumberOfLines() < plain_lines.GetNumberOfLines() / 2,
       "one line per edge: %d feature lines against AT's %d"
       % (default_lines.GetNumberOfLines(), plain_lines.GetNumberOfLines()))
