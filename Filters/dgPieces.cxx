@@ -1,0 +1,76 @@
+#include "dgPieces.h"
+
+#include <vtkExtentTranslator.h>
+#include <vtkNew.h>
+
+#include <algorithm>
+
+namespace dg
+{
+bool ExtentEmpty(const int e[6])
+{
+  return e[0] > e[1] || e[2] > e[3] || e[4] > e[5];
+}
+
+bool PieceExtent(const int whole[6], int piece, int numberOfPieces, int out[6])
+{
+  for (int a = 0; a < 6; ++a)
+  {
+    out[a] = whole[a];
+  }
+  if (ExtentEmpty(whole) || numberOfPieces < 1 || piece < 0 || piece >= numberOfPieces)
+  {
+    out[0] = 0;
+    out[1] = -1;
+    return false;
+  }
+  if (numberOfPieces == 1)
+  {
+    return true;
+  }
+  vtkNew<vtkExtentTranslator> t;
+  t->SetSplitModeToBlock();
+  int w[6];
+  std::copy(whole, whole + 6, w);
+  // By points: a voxel is an image point, and pieces must not share voxels.
+  // The translator reports an empty piece by returning 0.
+  if (!t->PieceToExtentThreadSafe(piece, numberOfPieces, 0, w, out, t->GetSplitMode(), 1) ||
+    ExtentEmpty(out))
+  {
+    out[0] = 0;
+    out[1] = -1;
+    return false;
+  }
+  return true;
+}
+
+void GrowExtent(const int in[6], int layers, const int whole[6], int out[6])
+{
+  if (ExtentEmpty(in))
+  {
+    std::copy(in, in + 6, out);
+    return;
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    out[2 * a] = std::max(whole[2 * a], in[2 * a] - layers);
+    out[2 * a + 1] = std::min(whole[2 * a + 1], in[2 * a + 1] + layers);
+  }
+}
+
+bool ExtentContains(const int outer[6], const int inner[6])
+{
+  if (ExtentEmpty(inner))
+  {
+    return true;
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    if (inner[2 * a] < outer[2 * a] || inner[2 * a + 1] > outer[2 * a + 1])
+    {
+      return false;
+    }
+  }
+  return true;
+}
+} // namespace dg

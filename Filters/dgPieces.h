@@ -1,0 +1,30 @@
+// Pieces of a structured volume (the distributed design, ARCHITECTURE.md):
+// which voxels a piece owns and how far its inputs must reach beyond them.
+//
+// Every piece-aware filter of the module computes a piece's own (non-ghost)
+// voxel extent with PieceExtent, so that the image readers, the island
+// filter, the surface filter and the II estimator agree on ownership without
+// talking to each other: a voxel belongs to exactly one piece, a surfel to
+// the piece that owns its inside voxel.
+#ifndef dgPieces_h
+#define dgPieces_h
+
+namespace dg
+{
+/// The own voxel extent of `piece` of `numberOfPieces` in `whole` (VTK's
+/// vtkExtentTranslator in block mode, without ghost levels). Returns false
+/// (and an empty extent, min > max) when the piece holds no voxel.
+bool PieceExtent(const int whole[6], int piece, int numberOfPieces, int out[6]);
+
+/// `in` grown by `layers` voxels on every side, clipped to `whole`. An empty
+/// `in` stays empty.
+void GrowExtent(const int in[6], int layers, const int whole[6], int out[6]);
+
+/// True when `inner` lies inside `outer` (an empty `inner` always does).
+bool ExtentContains(const int outer[6], const int inner[6]);
+
+/// True when the extent holds no voxel.
+bool ExtentEmpty(const int e[6]);
+} // namespace dg
+
+#endif
