@@ -163,20 +163,9 @@ int vtkDGtalVolReader::RequestData(
   }
   else
   {
-    // Row by row (x fastest) from the whole volume into the box.
-    const std::size_t nx = static_cast<std::size_t>(ext[1] - ext[0] + 1);
-    const std::size_t ny = static_cast<std::size_t>(ext[3] - ext[2] + 1);
-    const std::size_t nz = static_cast<std::size_t>(ext[5] - ext[4] + 1);
-    values->SetNumberOfValues(static_cast<vtkIdType>(nx * ny * nz));
-    std::uint8_t* dst = values->GetPointer(0);
-    for (int k = ext[4]; k <= ext[5]; ++k)
-    {
-      for (int j = ext[2]; j <= ext[3]; ++j, dst += nx)
-      {
-        const std::size_t row = (static_cast<std::size_t>(k) * header.Dims[1] + j) * header.Dims[0];
-        std::memcpy(dst, voxels.data() + row + ext[0], nx);
-      }
-    }
+    values->SetNumberOfValues(static_cast<vtkIdType>(ext[1] - ext[0] + 1) *
+      (ext[3] - ext[2] + 1) * (ext[5] - ext[4] + 1));
+    dg::CopyExtent(voxels.data(), whole, ext, 1, values->GetPointer(0));
   }
   output->GetPointData()->SetScalars(values);
   this->UpdateProgress(1.0);
