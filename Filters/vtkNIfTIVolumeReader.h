@@ -31,10 +31,10 @@
  * the requested UPDATE_EXTENT with the whole read's origin, spacing and
  * direction (the extent carries the offset). vtkNIFTIImageReader reads
  * whole volumes only (a .nii.gz is one gzip stream), so each request reads
- * the whole volume and crops the box (vtkImageData::Crop): a piece costs
+ * the whole volume and copies the box out (dg::CopyExtent): a piece costs
  * the time of a full read and holds the whole volume, at its voxel type,
- * while it runs, besides its own box (measured on a .vol of the same size:
- * docs/pieces-readers.md). A piece request is turned into the extent by VTK's
+ * while it runs, besides its own box (fandisk-256 as .nii.gz, one piece
+ * of 2: docs/pieces-readers.md). A piece request is turned into the extent by VTK's
  * executive (vtkExtentTranslator, block mode, by cells: neighbouring pieces
  * share one layer of voxels), grown by the ghost layers asked for, which the
  * executive marks in vtkGhostType (point and cell arrays) as for any
