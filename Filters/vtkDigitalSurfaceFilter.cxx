@@ -15,6 +15,7 @@
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
 #include <vtkInformationIntegerKey.h>
+#include <vtkInformationIntegerRequestKey.h>
 #include <vtkIntArray.h>
 #include <vtkMatrix3x3.h>
 #include <vtkObjectFactory.h>
@@ -28,7 +29,30 @@
 #include <cmath>
 
 vtkStandardNewMacro(vtkDigitalSurfaceFilter);
-vtkInformationKeyMacro(vtkDigitalSurfaceFilter, IMAGE_GHOST_LEVELS, Integer);
+
+namespace
+{
+// A request key, like the piece keys: the executive copies it upstream
+// through any filter in between (ParaView puts a vtkPVPostFilter after every
+// output), and re-executes the stages above when its value changes.
+class ImageReachKey : public vtkInformationIntegerRequestKey
+{
+public:
+  ImageReachKey()
+    : vtkInformationIntegerRequestKey("IMAGE_GHOST_LEVELS", "vtkDigitalSurfaceFilter")
+  {
+    static vtkInformationIntegerKey* data =
+      new vtkInformationIntegerKey("DATA_IMAGE_GHOST_LEVELS", "vtkDigitalSurfaceFilter");
+    this->DataKey = data;
+  }
+};
+} // namespace
+
+vtkInformationIntegerKey* vtkDigitalSurfaceFilter::IMAGE_GHOST_LEVELS()
+{
+  static ImageReachKey* key = new ImageReachKey;
+  return key;
+}
 
 namespace
 {

@@ -142,7 +142,9 @@ public:
    * vtkIINormalEstimator sets it to ceil(radius) + 1 + its ghost levels, so
    * that this filter and the estimator ask the image's source for the same
    * extent: two different requests on one output would leave one of them
-   * with the other's extent.
+   * with the other's extent. It is a request key (like the piece keys): the
+   * executive carries it upstream through filters in between, such as
+   * ParaView's vtkPVPostFilter.
    */
   static vtkInformationIntegerKey* IMAGE_GHOST_LEVELS();
 
