@@ -97,6 +97,7 @@ void Pipeline::Build(vtkImageData* image, vtkAlgorithmOutput* source, const Pipe
   this->AT->SetTolerance(s.Tolerance);
   this->AT->SetFeatureThreshold(s.FeatureThreshold);
   this->AT->SetLinearSolver(s.Solver);
+  this->AT->SetSolverTolerance(s.SolverTolerance);
   this->Stages.push_back({ "Ambrosio-Tortorelli", this->AT });
 
   if (s.Sharpen)
@@ -121,6 +122,7 @@ void Pipeline::Build(vtkImageData* image, vtkAlgorithmOutput* source, const Pipe
       a->SetTolerance(s.Tolerance);
       a->SetFeatureThreshold(s.FeatureThreshold);
       a->SetLinearSolver(s.Solver);
+      a->SetSolverTolerance(s.SolverTolerance);
     }
     this->Stages.push_back({ "Ambrosio-Tortorelli 2", this->AT2 });
     this->Sharp2->SetInputConnection(this->AT2->GetOutputPort());
