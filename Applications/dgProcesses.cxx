@@ -9,6 +9,7 @@
 #include <vtkAppendPolyData.h>
 #include <vtkCellArray.h>
 #include <vtkCommunicator.h>
+#include <vtkLogger.h>
 #include <vtkMPIController.h>
 #include <vtkMultiProcessController.h>
 #include <vtkXMLPPolyDataWriter.h>
@@ -65,6 +66,11 @@ bool Processes::Initialize(int* argc, char*** argv, std::string& error)
 #ifdef DG_HAVE_MPI
   auto mpi = vtkSmartPointer<vtkMPIController>::New();
   mpi->Initialize(argc, argv);
+  // VTK's MPI start-up turns its logger on, which prints every VTK error
+  // to stderr by itself (colour codes, stack of requests) besides the
+  // output window that the program reads them from: messages go through
+  // the output window alone, as with one process.
+  vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);
   this->Started = true;
   this->MPI = mpi;
   vtkMultiProcessController::SetGlobalController(mpi);

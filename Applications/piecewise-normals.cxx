@@ -17,6 +17,8 @@
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkOBJWriter.h>
+#include <vtkOutputWindow.h>
+#include <vtkStringOutputWindow.h>
 #include <vtkPLYWriter.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
@@ -506,6 +508,25 @@ void ConfigureXMLWriter(vtkXMLWriter* w, const std::string& compression)
     w->SetCompressorTypeToLZ4();
 }
 
+// The first error in text collected from VTK's output window ("ERROR: In
+// file, line N" then the message), as one line without the object's address.
+std::string FirstVTKError(const std::string& text)
+{
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line))
+  {
+    if (line.rfind("ERROR: In ", 0) != 0 || !std::getline(in, line))
+      continue;
+    const auto open = line.find(" (0x");
+    const auto close = line.find("): ", open == std::string::npos ? 0 : open);
+    if (open != std::string::npos && close != std::string::npos)
+      line = line.substr(0, open) + line.substr(close + 1);
+    return line;
+  }
+  return "";
+}
+
 // Owned cells of a piece (cells marked as ghosts by vtkGhostType excluded).
 long long OwnedCells(vtkPolyData* pd)
 {
@@ -626,11 +647,26 @@ int RunPieces(Options opt, dg::Processes& procs)
   for (const auto& stage : pipeline.Stages)
     watch(stage.Algorithm, stage.Name, false);
   vtkAlgorithm* last = pipeline.Stages.back().Algorithm;
+  // Objects inside the stages (a .pvti's piece readers) report to VTK's
+  // output window, which no observer sees: collect it, so that a failure
+  // says one line (naming the first error) and a success passes the
+  // warnings on.
+  vtkSmartPointer<vtkOutputWindow> previousWindow = vtkOutputWindow::GetInstance();
+  vtkNew<vtkStringOutputWindow> collected;
+  vtkOutputWindow::SetInstance(collected);
   const int updated = last->UpdatePiece(rank, size, 0);
-  if (errors->Failed)
-    return rankFail(errors->Message);
-  if (!updated)
-    return rankFail("the pipeline failed on this piece");
+  vtkOutputWindow::SetInstance(previousWindow);
+  const std::string vtkText = collected->GetOutput();
+  if (errors->Failed || !updated)
+  {
+    std::string message = errors->Failed ? errors->Message : "the pipeline failed on this piece";
+    const std::string first = FirstVTKError(vtkText);
+    if (!first.empty() && message.find(first) == std::string::npos)
+      message += " (first error: " + first + ")";
+    return rankFail(message);
+  }
+  if (!vtkText.empty())
+    std::cerr << vtkText;
   if (reader)
   {
     std::string error;
