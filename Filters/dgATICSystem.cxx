@@ -33,15 +33,38 @@ constexpr std::int64_t ICMinBlockRows = 16384, ICMaxBlockRows = 65536, ICTargetB
 class ICSystem : public ATLinearSystem
 {
 public:
-  ICSystem(double tolerance, int maxIterations)
+  ICSystem(double tolerance, int maxIterations, const ATDistribution* distribution, int kind)
     : Tolerance(tolerance)
     , MaxIterations(maxIterations)
+    , Dist(distribution)
+    , Kind(kind)
   {
+  }
+
+  // The rows this process solves: all of them, or its owned ones (numbered
+  // first; the rest are ghosts, read by the products but never updated).
+  std::int64_t Rows(const ATSystemMatrix& m) const
+  {
+    return this->Dist ? this->Dist->Owned(this->Kind) : m.cols();
+  }
+  void Sum(double* v, int count) const
+  {
+    if (this->Dist)
+    {
+      this->Dist->SumAll(v, count);
+    }
+  }
+  void Ghosts(std::vector<double>& x, int nc) const
+  {
+    if (this->Dist)
+    {
+      this->Dist->UpdateGhosts(this->Kind, x.data(), nc);
+    }
   }
 
   bool Analyze(const ATSystemMatrix& m) override
   {
-    const std::int64_t n = m.cols();
+    const std::int64_t n = this->Rows(m);
     const int* outer = m.outerIndexPtr();
     const int* inner = m.innerIndexPtr();
     const std::int64_t rows = std::clamp(n / ICTargetBlocks, ICMinBlockRows, ICMaxBlockRows);
@@ -111,7 +134,7 @@ public:
 
   bool Factorize(const ATSystemMatrix& m) override
   {
-    const std::int64_t n = m.cols();
+    const std::int64_t n = this->Rows(m);
     const double* val = m.valuePtr();
     this->LVal.resize(this->LCol.size());
     this->InvD.resize(n);
@@ -312,6 +335,7 @@ public:
       });
     std::vector<double> sums(2 * nc);
     ReduceBlocks(this->Partial, nBlocks, 2 * nc, sums.data());
+    this->Sum(sums.data(), 2 * nc);
     std::copy(sums.begin(), sums.begin() + nc, rr);
     std::copy(sums.begin() + nc, sums.end(), rz);
   }
@@ -331,7 +355,9 @@ public:
     double* pq)
   {
     const int nc = NC > 0 ? NC : ncRun;
-    const std::int64_t n = m.cols();
+    const std::int64_t n = this->Rows(m);
+    // A z reads z on the ghost rows: their owners' values.
+    this->Ghosts(const_cast<std::vector<double>&>(z), nc);
     ForBlocks(n,
       [&](std::int64_t blk, std::int64_t i0, std::int64_t i1)
       {
@@ -363,25 +389,28 @@ public:
         std::copy(s, s + nc, partial.data() + blk * nc);
       });
     ReduceBlocks(partial, NumberOfBlocks(n), nc, pq);
+    this->Sum(pq, nc);
   }
 
   template<int NC>
   bool SolveN(const ATSystemMatrix& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& xOut, int ncRun)
   {
     const int nc = NC > 0 ? NC : ncRun;
-    const std::int64_t n = m.cols();
-    if (xOut.rows() != n || xOut.cols() != nc)
+    const std::int64_t n = this->Rows(m);
+    if (xOut.rows() != m.cols() || xOut.cols() != nc)
     {
-      xOut = Eigen::MatrixXd::Zero(n, nc);
+      xOut = Eigen::MatrixXd::Zero(m.cols(), nc);
     }
     // Work vectors kept from one solve to the next: fresh ones would cost
     // page faults and zeroing at every step.
     std::vector<double>&x = this->X, &r = this->R, &p = this->P, &q = this->Q, &z = this->Z;
     Interleave(xOut, x);
     Interleave(b, r);
-    p.resize(n * nc);
-    q.resize(n * nc);
-    z.resize(n * nc);
+    this->Ghosts(x, nc);
+    // Full length: the products read the ghost rows of z.
+    p.resize(m.cols() * nc);
+    q.resize(m.cols() * nc);
+    z.resize(m.cols() * nc);
     const std::int64_t nb = NumberOfBlocks(n);
     std::vector<double> partial(nb * 2 * nc);
     std::vector<double> sums(2 * nc);
@@ -409,6 +438,7 @@ public:
         std::copy(s, s + 2 * nc, partial.data() + blk * 2 * nc);
       });
     ReduceBlocks(partial, nb, 2 * nc, sums.data());
+    this->Sum(sums.data(), 2 * nc);
     const double tol2 = this->Tolerance * this->Tolerance;
     int nActive = 0;
     for (int c = 0; c < nc; ++c)
@@ -454,10 +484,16 @@ public:
       this->NextDirection<NC>(m, z, p, q, g.data(), h.data(), nc, partial, pq.data());
     }
     this->Iterations += it;
-    if (nActive != 0 || !AllFinite(x))
+    bool ok = nActive == 0 && AllFinite(x);
+    if (this->Dist)
+    {
+      ok = this->Dist->AllOk(ok);
+    }
+    if (!ok)
     {
       return false; // xOut keeps the previous values
     }
+    this->Ghosts(x, nc);
     Deinterleave(x, xOut);
     return true;
   }
@@ -465,6 +501,8 @@ public:
 private:
   double Tolerance;
   int MaxIterations;
+  const ATDistribution* Dist;
+  int Kind;
   std::vector<std::int64_t> Blocks, UFromL;
   // int like the matrix's own indices (the factor has fewer entries).
   std::vector<int> LPtr, UPtr;
@@ -474,9 +512,10 @@ private:
 };
 } // namespace
 
-std::unique_ptr<ATLinearSystem> MakeICSystem(double tolerance, int maxIterations)
+std::unique_ptr<ATLinearSystem> MakeICSystem(
+  double tolerance, int maxIterations, const ATDistribution* distribution, int kind)
 {
-  return std::unique_ptr<ATLinearSystem>(new ICSystem(tolerance, maxIterations));
+  return std::unique_ptr<ATLinearSystem>(new ICSystem(tolerance, maxIterations, distribution, kind));
 }
 
 } // namespace dg

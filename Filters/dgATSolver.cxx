@@ -203,9 +203,11 @@ bool ATSolver::SolveSystem(ATLinearSystem& system,
   const char* name)
 {
   auto t0 = Clock::now();
+  // Every process takes the same branches: a local failure fails them all.
+  auto agree = [this](bool ok) { return this->Distribution ? this->Distribution->AllOk(ok) : ok; };
   if (!system.Analyzed)
   {
-    system.Analyzed = system.Analyze(m);
+    system.Analyzed = agree(system.Analyze(m));
     this->Stats.Analysis += Seconds(t0);
     if (!system.Analyzed)
     {
@@ -215,7 +217,7 @@ bool ATSolver::SolveSystem(ATLinearSystem& system,
     }
     t0 = Clock::now();
   }
-  const bool factored = system.Factorize(m);
+  const bool factored = agree(system.Factorize(m));
   this->Stats.Factorization += Seconds(t0);
   t0 = Clock::now();
   const std::int64_t it0 = system.Iterations;
@@ -240,7 +242,9 @@ bool ATSolver::StepU()
 {
   if (!this->USystem)
   {
-    this->USystem = MakeATLinearSystem(this->Params);
+    this->USystem = this->Distribution
+      ? MakeICSystem(this->Params.CGTolerance, this->Params.CGMaximumIterations, this->Distribution, 0)
+      : MakeATLinearSystem(this->Params);
   }
   auto t0 = Clock::now();
   this->AssembleU();
@@ -255,7 +259,9 @@ bool ATSolver::StepV(double epsilon)
 {
   if (!this->VSystem)
   {
-    this->VSystem = MakeATLinearSystem(this->Params);
+    this->VSystem = this->Distribution
+      ? MakeICSystem(this->Params.CGTolerance, this->Params.CGMaximumIterations, this->Distribution, 1)
+      : MakeATLinearSystem(this->Params);
   }
   auto t0 = Clock::now();
   this->AssembleV(epsilon);
@@ -377,6 +383,12 @@ bool ATSolver::Run(const Eigen::MatrixXd& field, const ATProgressCallback& progr
                       std::to_string(this->Complex.NumberOfFaces()) + " faces";
     return false;
   }
+  if (this->Distribution && this->Params.Solver != ATLinearSolver::ConjugateGradientIC)
+  {
+    this->ErrorText = std::string("a distributed solve runs ConjugateGradientIC only (got ") +
+      ATLinearSolverName(this->Params.Solver) + ")";
+    return false;
+  }
   if (this->Params.Solver == ATLinearSolver::Cholmod && !CholmodAvailable())
   {
     this->WarningList.push_back("CHOLMOD is not available in this build: using SimplicialLDLT");
@@ -405,7 +417,15 @@ bool ATSolver::Run(const Eigen::MatrixXd& field, const ATProgressCallback& progr
       this->StepU();
       this->StepV(levels[l]);
       ++this->Stats.Iterations;
-      const double change = (this->v - vPrev).lpNorm<Eigen::Infinity>();
+      const std::int64_t owned =
+        this->Distribution ? this->Distribution->Owned(1) : this->v.size();
+      double change = owned > 0
+        ? (this->v.head(owned) - vPrev.head(owned)).lpNorm<Eigen::Infinity>()
+        : 0.0;
+      if (this->Distribution)
+      {
+        change = this->Distribution->MaxAll(change);
+      }
       if (progress &&
           !progress((static_cast<double>(l) * this->Params.MaximumIterations + it + 1) / steps))
       {

@@ -108,6 +108,28 @@ using ATProgressCallback = std::function<bool(double)>;
 
 class ATLinearSystem;
 
+/// The communication of a distributed solve (one process per piece, see
+/// docs/distributed.md): each process holds its rows of both systems (its
+/// owned faces and vertices, numbered first) and a halo of ghost rows whose
+/// values belong to other processes. The solver calls these at fixed points
+/// of its schedule and of every CG iteration; every process must make the
+/// same calls in the same order.
+class ATDistribution
+{
+public:
+  virtual ~ATDistribution() = default;
+  /// Sums values[0..count) over all processes, in place: every process gets
+  /// the same bits (summed in process order).
+  virtual void SumAll(double* values, int count) const = 0;
+  virtual double MaxAll(double value) const = 0;
+  /// True on every process when `ok` is true on every process.
+  virtual bool AllOk(bool ok) const = 0;
+  /// Overwrites the ghost rows (from Owned(kind) on) of x, `nc` interleaved
+  /// values per row, with their owners' values. kind 0: faces (u), 1: vertices (v).
+  virtual void UpdateGhosts(int kind, double* x, int nc) const = 0;
+  virtual std::int64_t Owned(int kind) const = 0;
+};
+
 class ATSolver
 {
 public:
@@ -115,6 +137,11 @@ public:
   ~ATSolver();
   ATSolver(const ATSolver&) = delete;
   ATSolver& operator=(const ATSolver&) = delete;
+
+  /// Makes the solve distributed (null: one process, the default). The
+  /// complex is then the process's local one, owned faces and vertices
+  /// first; only ConjugateGradientIC is supported. Must outlive Run().
+  void SetDistribution(const ATDistribution* d) { this->Distribution = d; }
 
   /// The whole schedule: u <- g, v <- 1, then levels of alternating steps.
   /// g is F x C (one row per face). Returns false when aborted or when the
@@ -153,6 +180,7 @@ private:
     Eigen::MatrixXd& x,
     const char* name);
   const ATComplex& Complex;
+  const ATDistribution* Distribution = nullptr;
   ATParameters Params;
   ATStatistics Stats;
   Eigen::MatrixXd g, u;

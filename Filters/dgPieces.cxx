@@ -1,12 +1,40 @@
 #include "dgPieces.h"
 
+#include <vtkCommunicator.h>
 #include <vtkExtentTranslator.h>
+#include <vtkInformation.h>
+#include <vtkMultiProcessController.h>
 #include <vtkNew.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
 
 #include <algorithm>
 
 namespace dg
 {
+vtkMultiProcessController* PieceController(vtkInformation* outInfo)
+{
+  vtkMultiProcessController* c = vtkMultiProcessController::GetGlobalController();
+  if (!c || c->GetNumberOfProcesses() < 2 || !outInfo ||
+    !outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES()) ||
+    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES()) < 2)
+  {
+    return nullptr;
+  }
+  return c;
+}
+
+bool AllPiecesOk(vtkInformation* outInfo, bool ok)
+{
+  vtkMultiProcessController* c = PieceController(outInfo);
+  if (!c)
+  {
+    return ok;
+  }
+  int mine = ok ? 1 : 0, all = 0;
+  c->AllReduce(&mine, &all, 1, vtkCommunicator::MIN_OP);
+  return all == 1;
+}
+
 bool ExtentEmpty(const int e[6])
 {
   return e[0] > e[1] || e[2] > e[3] || e[4] > e[5];

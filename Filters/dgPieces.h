@@ -9,8 +9,20 @@
 #ifndef dgPieces_h
 #define dgPieces_h
 
+class vtkInformation;
+class vtkMultiProcessController;
+
 namespace dg
 {
+/// The controller of a distributed execution: VTK's global controller when
+/// it has more than one process and `outInfo` requests one of several
+/// pieces; null otherwise (one process, or a piece streamed alone).
+vtkMultiProcessController* PieceController(vtkInformation* outInfo);
+
+/// In a distributed execution, true on every process when `ok` is true on
+/// every process (a collective call); `ok` as it is otherwise.
+bool AllPiecesOk(vtkInformation* outInfo, bool ok);
+
 /// The own voxel extent of `piece` of `numberOfPieces` in `whole` (VTK's
 /// vtkExtentTranslator in block mode, without ghost levels). Returns false
 /// (and an empty extent, min > max) when the piece holds no voxel.

@@ -2,6 +2,7 @@
 
 #include "dgATOperators.h"
 #include "dgATSolver.h"
+#include "dgPieces.h"
 #include "dgPipelineAbort.h"
 
 #include <vtkCellArray.h>
@@ -17,6 +18,7 @@
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkSMPTools.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
 #include <vtkSmartPointer.h>
 
 #include <algorithm>
@@ -101,6 +103,26 @@ vtkAmbrosioTortorelliFilter::~vtkAmbrosioTortorelliFilter() = default;
 vtkMTimeType vtkAmbrosioTortorelliFilter::GetMTime()
 {
   return this->Internal->Abort.MTime(this->Superclass::GetMTime());
+}
+
+int vtkAmbrosioTortorelliFilter::RequestUpdateExtent(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  if (!this->Superclass::RequestUpdateExtent(request, inputVector, outputVector))
+  {
+    return 0;
+  }
+  // A piece's rows need one ring of ghost cells around its own.
+  using SDDP = vtkStreamingDemandDrivenPipeline;
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  if (inInfo && outInfo->Has(SDDP::UPDATE_NUMBER_OF_PIECES()) &&
+    outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES()) > 1)
+  {
+    inInfo->Set(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS(),
+      outInfo->Get(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS()) + 1);
+  }
+  return 1;
 }
 
 int vtkAmbrosioTortorelliFilter::FillInputPortInformation(int, vtkInformation* info)
@@ -190,6 +212,13 @@ int vtkAmbrosioTortorelliFilter::RequestData(vtkInformation*,
   {
     vtkErrorMacro("Invalid parameters: " << problem);
     return 0;
+  }
+  if (vtkMultiProcessController* controller =
+        dg::PieceController(outputVector->GetInformationObject(0)))
+  {
+    // One of several pieces: the distributed solve (no kept solution).
+    cache.Valid = false;
+    return this->RequestDataPieces(controller, input, output, features, params);
   }
 
   vtkCellArray* polys = input->GetPolys();

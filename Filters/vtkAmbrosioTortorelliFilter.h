@@ -94,6 +94,12 @@
 
 #include <memory>
 
+class vtkMultiProcessController;
+namespace dg
+{
+struct ATParameters;
+}
+
 class VTKDIGITALGEOMETRY_EXPORT vtkAmbrosioTortorelliFilter : public vtkPolyDataAlgorithm
 {
 public:
@@ -235,7 +241,11 @@ protected:
   ~vtkAmbrosioTortorelliFilter() override;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  // The distributed solve (vtkAmbrosioTortorelliFilterPieces.cxx).
+  int RequestDataPieces(vtkMultiProcessController* controller, vtkPolyData* input,
+    vtkPolyData* output, vtkPolyData* features, const dg::ATParameters& parameters);
 
   double Alpha = 0.1;
   double Lambda = 0.01;

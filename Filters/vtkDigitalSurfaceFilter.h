@@ -17,9 +17,32 @@
  *   "InsideVoxel" (int, 3 components): structured index (i, j, k) of the
  *   surfel's inside voxel in the image's index space; "SurfelDirection"
  *   (unsigned char): 0..5 for -x, +x, -y, +y, -z, +z (axis = d / 2);
- * - field data "ImageExtent" (int[6]), "ImageOrigin" and "ImageSpacing"
- *   (double[3]): the image the surface came from, so that later stages
- *   (vtkIINormalEstimator) can check they look at the same volume.
+ * - cell data "GlobalIds" (vtkIdType, the cell data's global ids):
+ *   ((k * Ny + j) * Nx + i) * 6 + d, with (i, j, k) the inside voxel counted
+ *   from the lower corner of the whole extent, (Nx, Ny, Nz) the whole
+ *   extent's dimensions and d the direction; point data "GlobalIds" (the
+ *   point data's global ids): (ck * (Ny + 1) + cj) * (Nx + 1) + ci, the
+ *   pointel's corner index (0..N along each axis) in the whole extent. Both
+ *   come from the grid alone, so every partition into pieces gives the same
+ *   ids and results can be compared cell by cell with a one-process run;
+ * - field data "ImageExtent" (int[6], the whole extent), "ImageOrigin" and
+ *   "ImageSpacing" (double[3]): the image the surface came from, so that
+ *   later stages (vtkIINormalEstimator) can check they look at the same
+ *   volume.
+ *
+ * Pieces: asked for piece p of N (UPDATE_PIECE_NUMBER and
+ * UPDATE_NUMBER_OF_PIECES, as ParaView's parallel pipeline does on every
+ * rank), the filter owns the voxels of dg::PieceExtent (VTK's block split
+ * of the whole extent, by points) and emits the surfels whose inside voxel
+ * it owns: over all pieces, every surfel exactly once. It asks its input
+ * for that extent grown by G + 1 voxels (G the requested ghost levels, plus
+ * IMAGE_GHOST_LEVELS() when a downstream stage set it), so the input's
+ * reader must produce sub-extents (CAN_PRODUCE_SUB_EXTENT; VTK's XML, NRRD
+ * and MetaImage readers and the module's readers do). With G > 0 ghost
+ * levels, the surfels whose inside voxel lies within G voxels of the own
+ * extent are added as ghost cells (vtkGhostType DUPLICATECELL): for G = 1
+ * they hold every surfel that shares a point with an owned one. A piece
+ * with no surfel is normal: an empty output, no error.
  *
  * Non-manifold configurations (two voxels touching along an edge only) are
  * kept as they are: that edge has four incident quads.
@@ -39,6 +62,8 @@
 
 #include "vtkDigitalGeometryModule.h"
 #include "vtkPolyDataAlgorithm.h"
+
+class vtkInformationIntegerKey;
 
 #include <memory>
 
@@ -107,11 +132,24 @@ public:
    */
   vtkMTimeType GetMTime() override;
 
+  /**
+   * Request key (an integer, set by a downstream stage on this filter's
+   * output information during REQUEST_UPDATE_EXTENT): how many voxel layers
+   * beyond the piece's own extent that stage reads from the same image.
+   * vtkIINormalEstimator sets it to ceil(radius) + 1 + its ghost levels, so
+   * that this filter and the estimator ask the image's source for the same
+   * extent: two different requests on one output would leave one of them
+   * with the other's extent.
+   */
+  static vtkInformationIntegerKey* IMAGE_GHOST_LEVELS();
+
 protected:
   vtkDigitalSurfaceFilter();
   ~vtkDigitalSurfaceFilter() override;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   int SelectionMode = NON_ZERO;

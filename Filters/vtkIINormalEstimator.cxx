@@ -3,6 +3,8 @@
 #include "dgPipelineAbort.h"
 #include "dgIntegralInvariant.h"
 #include "dgVoxelSelection.h"
+#include "dgPieces.h"
+#include "vtkDigitalSurfaceFilter.h"
 
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
@@ -115,6 +117,25 @@ int vtkIINormalEstimator::FillInputPortInformation(int port, vtkInformation* inf
   return 1;
 }
 
+int vtkIINormalEstimator::BallReach(vtkInformation* sourceInfo) const
+{
+  double radius = this->Radius;
+  if (this->RadiusUnits == WORLD && sourceInfo->Has(vtkDataObject::SPACING()))
+  {
+    const double* sp = sourceInfo->Get(vtkDataObject::SPACING());
+    const double h = std::min({ std::abs(sp[0]), std::abs(sp[1]), std::abs(sp[2]) });
+    radius = h > 0 ? radius / h : radius;
+  }
+  // A ball centred on a surfel (half a voxel off the inside voxel's centre)
+  // reads voxels up to ceil(r) + 1 away. Bad radii are reported by
+  // RequestData; here they only must not overflow.
+  if (!(radius > 0) || !std::isfinite(radius) || radius > 1e6)
+  {
+    return 1;
+  }
+  return static_cast<int>(std::ceil(radius)) + 1;
+}
+
 int vtkIINormalEstimator::RequestUpdateExtent(
   vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -122,17 +143,56 @@ int vtkIINormalEstimator::RequestUpdateExtent(
   {
     return 0;
   }
-  // The balls reach anywhere in the image: ask for all of it (as
-  // vtkProbeFilter does for its source). Without this, an extent requested
-  // for an earlier source would crop a new one.
   vtkInformation* sourceInfo = inputVector[1]->GetInformationObject(0);
-  if (sourceInfo && sourceInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  if (!sourceInfo || !sourceInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
   {
-    sourceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
-      sourceInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
+    return 1;
+  }
+  int whole[6];
+  sourceInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  const int pieces = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    : 1;
+  if (pieces <= 1)
+  {
+    // One piece: the balls reach anywhere in the image, ask for all of it
+    // (as vtkProbeFilter does for its source). Without this, an extent
+    // requested for an earlier source would crop a new one.
+    sourceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), whole, 6);
     sourceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
     sourceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+    return 1;
   }
+  // A piece: its own voxels grown by the ghost levels (the surfels it gets)
+  // and by the balls' reach. The surface filter is told the same reach
+  // (IMAGE_GHOST_LEVELS), so that both ask the image's source for one extent.
+  const int piece = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
+  const int ghosts =
+    std::max(0, outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS()));
+  const int layers = ghosts + this->BallReach(sourceInfo);
+  vtkInformation* surfaceInfo = inputVector[0]->GetInformationObject(0);
+  if (surfaceInfo)
+  {
+    surfaceInfo->Set(vtkDigitalSurfaceFilter::IMAGE_GHOST_LEVELS(), layers);
+  }
+  int own[6], need[6];
+  dg::PieceExtent(whole, piece, pieces, own);
+  dg::GrowExtent(own, layers, whole, need);
+  if (dg::ExtentEmpty(need))
+  {
+    const int none[6] = { 0, -1, 0, -1, 0, -1 };
+    sourceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), none, 6);
+  }
+  else
+  {
+    sourceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), need, 6);
+  }
+  // The extent says it all: piece keys left from the superclass would have
+  // the executive cut the source's extent again.
+  sourceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
+  sourceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+  sourceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
   return 1;
 }
 
@@ -188,8 +248,16 @@ int vtkIINormalEstimator::RequestData(
                   "'ImageOrigin', 'ImageSpacing' written by vtkDigitalSurfaceFilter.");
     return 0;
   }
-  int ext[6];
+  int ext[6], whole[6];
   image->GetExtent(ext);
+  std::copy(ext, ext + 6, whole);
+  {
+    vtkInformation* sourceInfo = inputVector[1]->GetInformationObject(0);
+    if (sourceInfo && sourceInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+    {
+      sourceInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
+    }
+  }
   double origin[3], spacing[3];
   image->GetOrigin(origin);
   image->GetSpacing(spacing);
@@ -197,7 +265,7 @@ int vtkIINormalEstimator::RequestData(
     bool same = true;
     for (int a = 0; a < 6; ++a)
     {
-      same &= static_cast<int>(extArray->GetComponent(a, 0)) == ext[a];
+      same &= static_cast<int>(extArray->GetComponent(a, 0)) == whole[a];
     }
     for (int a = 0; a < 3; ++a)
     {
@@ -208,8 +276,8 @@ int vtkIINormalEstimator::RequestData(
     {
       auto e = [&](int a) { return static_cast<int>(extArray->GetComponent(a, 0)); };
       vtkErrorMacro("The source image does not match the surface: image extent "
-        << ext[0] << ".." << ext[1] << ", " << ext[2] << ".." << ext[3] << ", " << ext[4] << ".."
-        << ext[5] << ", origin (" << origin[0] << ", " << origin[1] << ", " << origin[2]
+        << whole[0] << ".." << whole[1] << ", " << whole[2] << ".." << whole[3] << ", " << whole[4] << ".."
+        << whole[5] << ", origin (" << origin[0] << ", " << origin[1] << ", " << origin[2]
         << "), spacing (" << spacing[0] << ", " << spacing[1] << ", " << spacing[2]
         << "); the surface was extracted from extent " << e(0) << ".." << e(1) << ", " << e(2)
         << ".." << e(3) << ", " << e(4) << ".." << e(5) << ", origin ("
@@ -221,7 +289,8 @@ int vtkIINormalEstimator::RequestData(
     }
   }
   const int dims[3] = { ext[1] - ext[0] + 1, ext[3] - ext[2] + 1, ext[5] - ext[4] + 1 };
-  if (dims[0] <= 0 || dims[1] <= 0 || dims[2] <= 0)
+  // An empty piece of a distributed surface gets an empty image: normal.
+  if ((dims[0] <= 0 || dims[1] <= 0 || dims[2] <= 0) && nSurfels > 0)
   {
     vtkErrorMacro("The source image is empty.");
     return 0;
@@ -248,16 +317,45 @@ int vtkIINormalEstimator::RequestData(
       << spacing[0] << ", " << spacing[1] << ", " << spacing[2] << ").");
     return 0;
   }
-  const int maxDim = std::max({ dims[0], dims[1], dims[2] });
+  const int wholeDims[3] = { whole[1] - whole[0] + 1, whole[3] - whole[2] + 1, whole[5] - whole[4] + 1 };
+  const int maxDim = std::max({ wholeDims[0], wholeDims[1], wholeDims[2] });
   if (radius > maxDim)
   {
-    vtkErrorMacro("Radius " << radius << " voxels is larger than the image (" << dims[0] << " x "
-                            << dims[1] << " x " << dims[2] << " voxels).");
+    vtkErrorMacro("Radius " << radius << " voxels is larger than the image (" << wholeDims[0]
+                            << " x " << wholeDims[1] << " x " << wholeDims[2] << " voxels).");
     return 0;
+  }
+  // A piece's image must hold every ball: a cropped ball would be a wrong
+  // normal without a word.
+  if (nSurfels > 0 && !dg::ExtentContains(ext, whole))
+  {
+    int box[6] = { vox[0], vox[0], vox[1], vox[1], vox[2], vox[2] };
+    for (vtkIdType c = 1; c < nSurfels; ++c)
+    {
+      for (int a = 0; a < 3; ++a)
+      {
+        box[2 * a] = std::min(box[2 * a], vox[3 * c + a]);
+        box[2 * a + 1] = std::max(box[2 * a + 1], vox[3 * c + a]);
+      }
+    }
+    int need[6];
+    dg::GrowExtent(box, static_cast<int>(std::ceil(radius)) + 1, whole, need);
+    if (!dg::ExtentContains(ext, need))
+    {
+      vtkErrorMacro("The source image holds the voxels "
+        << ext[0] << ".." << ext[1] << ", " << ext[2] << ".." << ext[3] << ", " << ext[4] << ".."
+        << ext[5] << " but the balls of radius " << radius << " around these surfels read "
+        << need[0] << ".." << need[1] << ", " << need[2] << ".." << need[3] << ", " << need[4]
+        << ".." << need[5]
+        << ": connect the surface filter and this filter to the same image source, the "
+           "surface directly to this filter's input, or give the whole image.");
+      return 0;
+    }
   }
 
   // 3. Inside voxels as runs along x; the byte mask lives only until then.
   dg::IntegralInvariantKernel kernel;
+  if (nSurfels > 0)
   {
     vtkDataArray* scalars = dg::SelectionArray(this->GetInputArrayToProcess(0, inputVector),
       this->GetInputArrayInformation(0), image);

@@ -6,8 +6,8 @@
  * needs its cell arrays "InsideVoxel" and "SurfelDirection" and its field
  * data "ImageExtent", "ImageOrigin", "ImageSpacing"); port 1 the vtkImageData
  * it came from, given with SetSourceConnection / SetSourceData (as for
- * vtkProbeFilter). The image's extent, origin and spacing must equal the ones
- * recorded in the surface.
+ * vtkProbeFilter). The image's whole extent, origin and spacing must equal
+ * the ones recorded in the surface.
  *
  * Inside voxels: the image is read with the same selection rules as
  * vtkDigitalSurfaceFilter (SelectionMode NonZero (default), Range or Label,
@@ -52,8 +52,16 @@
  * Octa-flower 512^3 (671 270 surfels), r = 8, 2 cores: about 2 s for the
  * normals (Benchmarks/BenchII).
  *
- * Pieces: the whole image extent must be available (ghost voxels for the
- * ball are not requested yet).
+ * Pieces: asked for piece p of N with G ghost levels, the estimator asks
+ * the image's source for the piece's own extent (dg::PieceExtent, as
+ * vtkDigitalSurfaceFilter) grown by G + ceil(r) + 1 voxels, and tells the
+ * surface filter the same reach (IMAGE_GHOST_LEVELS), so that both get one
+ * extent from a shared source. Each ball then sees exactly the voxels it
+ * sees in one process: normals and curvatures are bitwise those of a
+ * one-process run (the ball sums are integers). When the image given does
+ * not cover every surfel's ball (grown by ceil(r) + 1 and clipped to the
+ * whole extent), that is an error, not a silently cropped ball. Ghost cells
+ * of the surface get their estimate like the others.
  */
 #ifndef vtkIINormalEstimator_h
 #define vtkIINormalEstimator_h
@@ -191,6 +199,8 @@ protected:
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  // Voxel layers beyond a surfel that its ball reads: ceil(r) + 1.
+  int BallReach(vtkInformation* sourceInfo) const;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   double Radius = 3.0;
