@@ -143,7 +143,8 @@ per rank (PREFIX_surface_r.vtp), the summary and the picture from rank 0.
 The sharp-features stage is not distributed: with N > 1 the output is AT's
 plain one (as --plain), and --second-pass, --ply and --obj are not available.
 The picture gathers the surface (points, quads, three normal fields) and the
-lines on rank 0: about 150 bytes per surfel there; --no-png avoids it. .vti,
+lines on rank 0: about 125 bytes per surfel there (twice that while the pieces
+arrive); --no-png avoids it. .vti,
 .pvti, .mha, .nrrd (and .vol when its reader gives sub-extents) are read piece
 by piece; other formats, the built-in shape and --noise need the whole volume
 on every rank (noise is drawn on the whole volume, as with one process).
@@ -675,6 +676,10 @@ int RunPieces(Options opt, dg::Processes& procs)
   }
   vtkPolyData* result = pipeline.Result();
   vtkPolyData* features = pipeline.Features();
+  // Every piece is done before any file is made: a rank that failed has
+  // exited, and mpirun ends this one while it waits here, with nothing
+  // written.
+  procs.Barrier();
 
   // 3. Files: this rank's pieces and (rank 0) the summaries, in a folder of
   // their own until every rank has written, then moved into place.
@@ -713,7 +718,9 @@ int RunPieces(Options opt, dg::Processes& procs)
   const double writeTime = std::chrono::duration<double>(Clock::now() - writeStart).count();
 
   // 4. The picture, on rank 0, from the gathered pieces: points, quads and
-  // the three normal fields travel (about 150 bytes per surfel on rank 0).
+  // the three normal fields travel (per surfel about one point, 24 bytes,
+  // a quad, 40, and three normals, 12 + 24 + 24: 125 bytes on rank 0, twice
+  // that while the received pieces are appended).
   double renderTime = 0;
   if (opt.Png)
   {
