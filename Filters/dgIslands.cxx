@@ -67,22 +67,20 @@ public:
     {
       this->Parent[i] = this->Parent[this->Parent[i]];
     }
-    // Sizes and border contact, accumulated on the roots.
+    // Sizes and the faces of the box touched, accumulated on the roots.
     this->Size.assign(this->Parent.size(), 0);
     this->Border.assign(this->Parent.size(), 0);
     const int nx = this->Dims[0], nz = this->Dims[2];
     for (std::int64_t r = 0; r < this->Rows; ++r)
     {
       const std::int64_t j = r % ny, k = r / ny;
-      const bool rowOnBorder = j == 0 || j == ny - 1 || k == 0 || k == nz - 1;
+      const std::uint8_t rowFaces = static_cast<std::uint8_t>((j == 0 ? 4 : 0) |
+        (j == ny - 1 ? 8 : 0) | (k == 0 ? 16 : 0) | (k == nz - 1 ? 32 : 0));
       for (std::int64_t i = this->RowStart[r]; i < this->RowStart[r + 1]; ++i)
       {
         const std::int64_t root = this->Parent[i];
         this->Size[root] += this->X1[i] - this->X0[i];
-        if (rowOnBorder || this->X0[i] == 0 || this->X1[i] == nx)
-        {
-          this->Border[root] = 1;
-        }
+        this->Border[root] |= rowFaces | (this->X0[i] == 0 ? 1 : 0) | (this->X1[i] == nx ? 2 : 0);
       }
     }
     return true;
@@ -95,6 +93,8 @@ public:
   std::int64_t RunBegin(std::int64_t i) const { return this->RowOf(i) * this->Dims[0] + this->X0[i]; }
   std::int64_t RunEnd(std::int64_t i) const { return this->RowOf(i) * this->Dims[0] + this->X1[i]; }
   bool OnBorder(std::int64_t root) const { return this->Border[root] != 0; }
+  // The faces of the box the component touches (bits as in ComponentWindow).
+  unsigned Faces(std::int64_t root) const { return this->Border[root]; }
 
   // Calls f(run, first voxel, past-the-end voxel) for every run, rows in
   // parallel.
@@ -245,34 +245,55 @@ private:
   std::vector<std::int32_t> X0, X1;   // run i covers x in [X0[i], X1[i])
   std::vector<std::int64_t> Parent;
   std::vector<std::int64_t> Size;
-  std::vector<std::uint8_t> Border;
+  std::vector<std::uint8_t> Border; // faces touched, on the roots
 };
 
+// Voxel v (index in the mask, x fastest) is in the counted box.
+bool InBox(std::int64_t v, const int dims[3], const int box[6])
+{
+  const std::int64_t i = v % dims[0], r = v / dims[0];
+  const std::int64_t j = r % dims[1], k = r / dims[1];
+  return i >= box[0] && i <= box[1] && j >= box[2] && j <= box[3] && k >= box[4] && k <= box[5];
+}
+
 // One pass: the components of want-voxels that are small (and, for
-// cavities, off the border) change state. Returns false when aborted.
+// cavities, off the border; for islands, off the open faces) change state.
+// Only components whose first voxel is in the counted box, and changed
+// voxels in it, are counted. Returns false when aborted.
 // Removed island voxels keep the value RemovedIsland; their runs are added
 // to removedRuns (first voxel, past-the-end voxel) for the final reset.
 bool ChangeSmall(std::uint8_t* mask, const int dims[3], std::uint8_t want,
-  std::int64_t minimumSize, std::int64_t& components, std::int64_t& changed,
-  std::vector<std::pair<std::int64_t, std::int64_t>>& removedRuns,
+  std::int64_t minimumSize, const ComponentWindow& window, std::int64_t& components,
+  std::int64_t& changed, std::vector<std::pair<std::int64_t, std::int64_t>>& removedRuns,
   const std::function<bool(double)>& progress)
 {
+  const int* box = window.Counted;
+  const bool countAll = box[0] == 0 && box[1] == dims[0] - 1 && box[2] == 0 &&
+    box[3] == dims[1] - 1 && box[4] == 0 && box[5] == dims[2] - 1;
   RunLabelling labels(mask, dims, want);
   if (!labels.Label(progress))
   {
     return false;
   }
   const bool cavities = want == 0;
+  // A cavity on any face of the box is part of the exterior (an image
+  // face) or may continue beyond it (an open face); an island on an open
+  // face may continue too. Both are kept, as large components are.
+  const unsigned keepFaces = cavities ? 63u : (window.OpenFaces & 63u);
   std::vector<std::uint8_t> small(labels.NumberOfRuns(), 0);
+  bool any = false;
   for (std::int64_t i = 0; i < labels.NumberOfRuns(); ++i)
   {
-    if (labels.IsRoot(i) && labels.SizeOf(i) < minimumSize && !(cavities && labels.OnBorder(i)))
+    if (labels.IsRoot(i) && labels.SizeOf(i) < minimumSize && !(labels.Faces(i) & keepFaces))
     {
       small[i] = 1;
-      ++components;
+      any = true;
+      // The root is the component's first run: its first voxel is the
+      // component's first voxel (x fastest).
+      components += countAll || InBox(labels.RunBegin(i), dims, box);
     }
   }
-  if (components == 0)
+  if (!any)
   {
     return !progress || progress(1.0);
   }
@@ -286,16 +307,17 @@ bool ChangeSmall(std::uint8_t* mask, const int dims[3], std::uint8_t want,
     std::int64_t d = 0;
     for (std::int64_t v = begin; v < end; ++v)
     {
+      const int counted = countAll || InBox(v, dims, box) ? 1 : 0;
       if (cavities)
       {
         // An island voxel removed before comes back: no change overall.
-        d += m[v] == RemovedIsland ? -1 : 1;
+        d += m[v] == RemovedIsland ? -counted : counted;
         m[v] = 1;
       }
       else
       {
         m[v] = RemovedIsland;
-        ++d;
+        d += counted;
       }
     }
     delta += d;
@@ -317,9 +339,14 @@ bool ChangeSmall(std::uint8_t* mask, const int dims[3], std::uint8_t want,
 
 bool RemoveSmallComponents(std::uint8_t* mask, const int dims[3], std::int64_t minimumSize,
   bool removeIslands, bool fillCavities, IslandCounts& counts,
-  const std::function<bool(double)>& progress)
+  const std::function<bool(double)>& progress, const ComponentWindow* window)
 {
   counts = IslandCounts();
+  ComponentWindow whole;
+  whole.Counted[1] = dims[0] - 1;
+  whole.Counted[3] = dims[1] - 1;
+  whole.Counted[5] = dims[2] - 1;
+  const ComponentWindow& w = window ? *window : whole;
   if (minimumSize <= 1 || dims[0] <= 0 || dims[1] <= 0 || dims[2] <= 0)
   {
     return !progress || progress(1.0);
@@ -329,7 +356,7 @@ bool RemoveSmallComponents(std::uint8_t* mask, const int dims[3], std::int64_t m
   if (removeIslands)
   {
     const auto sub = [&](double f) { return !progress || progress(share * f); };
-    if (!ChangeSmall(mask, dims, 1, minimumSize, counts.RemovedIslands, counts.ChangedVoxels,
+    if (!ChangeSmall(mask, dims, 1, minimumSize, w, counts.RemovedIslands, counts.ChangedVoxels,
           removedRuns, sub))
     {
       return false;
@@ -339,7 +366,7 @@ bool RemoveSmallComponents(std::uint8_t* mask, const int dims[3], std::int64_t m
   {
     const double start = removeIslands ? share : 0.0;
     const auto sub = [&](double f) { return !progress || progress(start + share * f); };
-    if (!ChangeSmall(mask, dims, 0, minimumSize, counts.FilledCavities, counts.ChangedVoxels,
+    if (!ChangeSmall(mask, dims, 0, minimumSize, w, counts.FilledCavities, counts.ChangedVoxels,
           removedRuns, sub))
     {
       return false;
@@ -354,6 +381,16 @@ bool RemoveSmallComponents(std::uint8_t* mask, const int dims[3], std::int64_t m
     }
   }
   return true;
+}
+
+int ComponentReach(std::int64_t minimumSize, bool removeIslands, bool fillCavities)
+{
+  if (minimumSize <= 1)
+  {
+    return 0;
+  }
+  const std::int64_t passes = (removeIslands ? 1 : 0) + (fillCavities ? 1 : 0);
+  return static_cast<int>(std::min<std::int64_t>(passes * (minimumSize - 1), 1 << 30));
 }
 
 void ComponentSizes(const std::vector<std::uint8_t>& mask, const int dims[3], std::uint8_t value,

@@ -8,6 +8,8 @@
 #include <vtkStreamingDemandDrivenPipeline.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <cstring>
 
 namespace dg
 {
@@ -100,5 +102,28 @@ bool ExtentContains(const int outer[6], const int inner[6])
     }
   }
   return true;
+}
+void CopyExtent(
+  const void* src, const int extent[6], const int box[6], std::size_t voxelBytes, void* dst)
+{
+  if (ExtentEmpty(box))
+  {
+    return;
+  }
+  const std::size_t nx = static_cast<std::size_t>(extent[1] - extent[0] + 1);
+  const std::size_t ny = static_cast<std::size_t>(extent[3] - extent[2] + 1);
+  const std::size_t row = static_cast<std::size_t>(box[1] - box[0] + 1) * voxelBytes;
+  const auto* in = static_cast<const std::uint8_t*>(src);
+  auto* out = static_cast<std::uint8_t*>(dst);
+  for (int k = box[4]; k <= box[5]; ++k)
+  {
+    for (int j = box[2]; j <= box[3]; ++j, out += row)
+    {
+      const std::size_t first = (static_cast<std::size_t>(k - extent[4]) * ny +
+                                  static_cast<std::size_t>(j - extent[2])) * nx +
+        static_cast<std::size_t>(box[0] - extent[0]);
+      std::memcpy(out, in + first * voxelBytes, row);
+    }
+  }
 }
 } // namespace dg

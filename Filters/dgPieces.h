@@ -9,6 +9,8 @@
 #ifndef dgPieces_h
 #define dgPieces_h
 
+#include <cstddef>
+
 class vtkInformation;
 class vtkMultiProcessController;
 
@@ -37,6 +39,13 @@ bool ExtentContains(const int outer[6], const int inner[6]);
 
 /// True when the extent holds no voxel.
 bool ExtentEmpty(const int e[6]);
+
+/// Copies the voxels of `box` out of an array over `extent` (x fastest,
+/// `voxelBytes` bytes a voxel) into dst, box-sized, row by row. `box` must
+/// lie inside `extent`. For readers that decode a whole volume and hand
+/// out a sub-extent.
+void CopyExtent(const void* src, const int extent[6], const int box[6], std::size_t voxelBytes,
+  void* dst);
 } // namespace dg
 
 #endif

@@ -583,6 +583,8 @@ int vtkAmbrosioTortorelliFilter::Internals::Solve(vtkAmbrosioTortorelliFilter* s
   this->V = solver.V();
   this->EdgeVertices = complex.EdgeVertices;
   this->Iterations = solver.Statistics().Iterations;
+  self->NumberOfCGIterations = solver.Statistics().CGIterations;
+  self->HaloFaceValues = self->HaloVertexValues = 0;
   this->Scale = scale;
   return 2;
 }

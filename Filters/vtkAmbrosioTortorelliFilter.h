@@ -225,6 +225,23 @@ public:
   vtkGetMacro(NumberOfIterations, int);
 
   /**
+   * Conjugate-gradient iterations of the last solve, both systems (one
+   * iteration of the u-system serves all its columns).
+   */
+  vtkGetMacro(NumberOfCGIterations, vtkIdType);
+
+  ///@{
+  /**
+   * Distributed runs: the face and vertex values this process sent plus
+   * received per halo update of one column in the last solve (0 in one
+   * process). A CG iteration of the u-system moves HaloFaceValues * (field
+   * components) doubles, one of the v-system HaloVertexValues.
+   */
+  vtkGetMacro(HaloFaceValues, vtkIdType);
+  vtkGetMacro(HaloVertexValues, vtkIdType);
+  ///@}
+
+  /**
    * Number of solves this filter has made since it was created (executions
    * that only changed output parameters reuse the last solve).
    */
@@ -262,6 +279,9 @@ protected:
   double FieldScale = 1.0;
   int NumberOfIterations = 0;
   int NumberOfSolves = 0;
+  vtkIdType NumberOfCGIterations = 0;
+  vtkIdType HaloFaceValues = 0;
+  vtkIdType HaloVertexValues = 0;
 
 private:
   struct Internals;

@@ -228,6 +228,9 @@ int vtkAmbrosioTortorelliFilter::RequestDataPieces(vtkMultiProcessController* co
     return true;
   });
   this->NumberOfIterations = solver.Statistics().Iterations;
+  this->NumberOfCGIterations = solver.Statistics().CGIterations;
+  this->HaloFaceValues = halo.HaloValues(0);
+  this->HaloVertexValues = halo.HaloValues(1);
   if (!done)
   {
     return fail(rank == 0 ? "Ambrosio-Tortorelli failed: " + solver.Error() + "." : "");

@@ -1,5 +1,6 @@
 #include "vtkDGtalVolReader.h"
 
+#include "dgPieces.h"
 #include "dgPipelineAbort.h"
 #include "dgVolFormat.h"
 
@@ -11,6 +12,7 @@
 #include <vtkStreamingDemandDrivenPipeline.h>
 #include <vtkUnsignedCharArray.h>
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 
@@ -82,6 +84,9 @@ int vtkDGtalVolReader::RequestInformation(
   outInfo->Set(vtkDataObject::SPACING(), spacing, 3);
   outInfo->Set(vtkDataObject::ORIGIN(), origin, 3);
   vtkDataObject::SetPointDataActiveScalarInfo(outInfo, VTK_UNSIGNED_CHAR, 1);
+  // Any sub-extent (a piece, with or without ghost layers): the whole file
+  // is decoded and the box copied out (RequestData).
+  outInfo->Set(vtkAlgorithm::CAN_PRODUCE_SUB_EXTENT(), 1);
   return 1;
 }
 
@@ -95,6 +100,7 @@ int vtkDGtalVolReader::RequestData(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   vtkImageData* output = vtkImageData::GetData(outputVector);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
   const auto abortGuard = this->Abort->Begin(this, outputVector);
   this->LastError.clear();
   dg::VolHeader header;
@@ -124,14 +130,43 @@ int vtkDGtalVolReader::RequestData(
   {
     return this->Abort->Abort(outputVector);
   }
+  // The requested box (the whole volume unless a piece or a sub-extent was
+  // asked for); the executive keeps it inside the whole extent.
+  const int whole[6] = { 0, header.Dims[0] - 1, 0, header.Dims[1] - 1, 0, header.Dims[2] - 1 };
+  int ext[6];
+  std::copy(whole, whole + 6, ext);
+  if (outInfo && outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
+  {
+    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), ext);
+  }
+  if (!dg::ExtentEmpty(ext) && !dg::ExtentContains(whole, ext))
+  {
+    this->LastError = "requested extent outside the file's extent (the file changed?)";
+    vtkErrorMacro("Cannot read VOL file: " << this->LastError);
+    output->Initialize();
+    return 0;
+  }
   const double s = header.VoxelSize;
-  output->SetExtent(0, header.Dims[0] - 1, 0, header.Dims[1] - 1, 0, header.Dims[2] - 1);
+  output->SetExtent(ext);
   output->SetSpacing(s, s, s);
   output->SetOrigin(0, 0, 0);
   vtkNew<vtkUnsignedCharArray> values;
   values->SetName("Value");
-  values->SetNumberOfValues(static_cast<vtkIdType>(voxels.size()));
-  std::memcpy(values->GetPointer(0), voxels.data(), voxels.size());
+  if (dg::ExtentEmpty(ext))
+  {
+    values->SetNumberOfValues(0);
+  }
+  else if (std::equal(ext, ext + 6, whole))
+  {
+    values->SetNumberOfValues(static_cast<vtkIdType>(voxels.size()));
+    std::memcpy(values->GetPointer(0), voxels.data(), voxels.size());
+  }
+  else
+  {
+    values->SetNumberOfValues(static_cast<vtkIdType>(ext[1] - ext[0] + 1) *
+      (ext[3] - ext[2] + 1) * (ext[5] - ext[4] + 1));
+    dg::CopyExtent(voxels.data(), whole, ext, 1, values->GetPointer(0));
+  }
   output->GetPointData()->SetScalars(values);
   this->UpdateProgress(1.0);
   return 1;

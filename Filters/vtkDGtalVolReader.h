@@ -9,6 +9,21 @@
  * Voxel-Size (1 when absent), with one unsigned char point array "Value"
  * set as the active scalars.
  *
+ * Pieces and sub-extents (CAN_PRODUCE_SUB_EXTENT): the output is exactly
+ * the requested UPDATE_EXTENT, with the whole read's origin and spacing
+ * (VTK keeps the origin of a sub-extent: the extent carries the offset).
+ * The format has no index, and a Version 3 file is one zlib stream, so each
+ * request decodes the whole file and copies the box out: a piece costs the
+ * time of a full read and holds the whole volume (1 byte a voxel) while it
+ * runs, besides its own box (fandisk-256, one piece of 2: see
+ * docs/pieces-readers.md). A piece request (UpdatePiece(p, n, g), or
+ * ParaView's per-rank request) is turned into the extent by VTK's executive
+ * (vtkExtentTranslator, block mode, by cells: neighbouring pieces share one
+ * layer of voxels, unlike dg::PieceExtent), grown by the g ghost layers
+ * asked for; the executive then marks those layers in a point and a cell
+ * array vtkGhostType (DUPLICATEPOINT, DUPLICATECELL), as for any structured
+ * source. An empty extent gives an empty image, no error.
+ *
  * A missing or truncated file, a bad header, dimensions that disagree with
  * the data or a corrupt zlib stream give an error (vtkErrorMacro, also
  * available from GetErrorMessage) and an empty output.

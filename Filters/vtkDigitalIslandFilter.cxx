@@ -1,12 +1,15 @@
 #include "vtkDigitalIslandFilter.h"
 
 #include "dgIslands.h"
+#include "dgPieces.h"
 #include "dgPipelineAbort.h"
 #include "dgVoxelSelection.h"
 
+#include <vtkExtentTranslator.h>
 #include <vtkFieldData.h>
 #include <vtkImageData.h>
 #include <vtkInformation.h>
+#include <vtkInformationIntegerRequestKey.h>
 #include <vtkInformationVector.h>
 #include <vtkIntArray.h>
 #include <vtkNew.h>
@@ -18,6 +21,23 @@
 #include <algorithm>
 
 vtkStandardNewMacro(vtkDigitalIslandFilter);
+
+namespace
+{
+// f(first voxel, count) for each x row of the local box b (i0, i1, j0, j1,
+// k0, k1) in an array of dims, x fastest, in order.
+template <typename F>
+void ForRows(const int dims[3], const int b[6], F f)
+{
+  for (int k = b[4]; k <= b[5]; ++k)
+  {
+    for (int j = b[2]; j <= b[3]; ++j)
+    {
+      f((static_cast<std::int64_t>(k) * dims[1] + j) * dims[0] + b[0], b[1] - b[0] + 1);
+    }
+  }
+}
+} // namespace
 
 vtkDigitalIslandFilter::~vtkDigitalIslandFilter() = default;
 
@@ -31,25 +51,64 @@ vtkDigitalIslandFilter::vtkDigitalIslandFilter()
 int vtkDigitalIslandFilter::RequestInformation(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
-  vtkDataObject::SetPointDataActiveScalarInfo(
-    outputVector->GetInformationObject(0), VTK_UNSIGNED_CHAR, 1);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  vtkDataObject::SetPointDataActiveScalarInfo(outInfo, VTK_UNSIGNED_CHAR, 1);
+  // Any sub-extent, exactly: a piece request is split by the executive
+  // (with its ghost levels, and their vtkGhostType) as for a reader.
+  outInfo->Set(vtkAlgorithm::CAN_PRODUCE_SUB_EXTENT(), 1);
   return 1;
 }
 
 int vtkDigitalIslandFilter::RequestUpdateExtent(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  // A component can reach anywhere in the image: ask for all of it, so that
-  // a smaller extent requested downstream never cuts a shape into islands.
+  // The requested box grown by the reach of a small component
+  // (dg::ComponentReach): what is beyond cannot change the result inside.
   vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
-  if (inInfo && inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  if (!inInfo || !inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
   {
-    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
-      inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
-    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
-    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+    return 1;
   }
+  using SDDP = vtkStreamingDemandDrivenPipeline;
+  int whole[6], requested[6], grown[6];
+  inInfo->Get(SDDP::WHOLE_EXTENT(), whole);
+  std::copy(whole, whole + 6, requested);
+  if (outInfo && outInfo->Has(SDDP::UPDATE_EXTENT()))
+  {
+    outInfo->Get(SDDP::UPDATE_EXTENT(), requested);
+  }
+  const int pieces = outInfo && outInfo->Has(SDDP::UPDATE_NUMBER_OF_PIECES())
+    ? outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES())
+    : 1;
+  if (pieces > 1)
+  {
+    // The box RequestData will be asked for: the executive splits the
+    // requested extent just before it (vtkStreamingDemandDrivenPipeline::
+    // ExecuteDataStart), by cells, ghost levels included; the same here.
+    const int piece = outInfo->Get(SDDP::UPDATE_PIECE_NUMBER());
+    const int ghosts = outInfo->Get(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS());
+    vtkInformationIntegerKey* splitKey = vtkExtentTranslator::UPDATE_SPLIT_MODE();
+    const int mode =
+      outInfo->Has(splitKey) ? outInfo->Get(splitKey) : vtkExtentTranslator::BLOCK_MODE;
+    int all[6];
+    std::copy(requested, requested + 6, all);
+    vtkNew<vtkExtentTranslator> translator;
+    translator->PieceToExtentThreadSafe(piece, pieces, ghosts, all, requested, mode, 0);
+  }
+  dg::GrowExtent(requested, this->Reach(), whole, grown);
+  // Exactly that box from upstream: as one piece, which a reader or
+  // another sub-extent source would otherwise split again.
+  inInfo->Set(SDDP::UPDATE_EXTENT(), grown, 6);
+  inInfo->Set(SDDP::UPDATE_PIECE_NUMBER(), 0);
+  inInfo->Set(SDDP::UPDATE_NUMBER_OF_PIECES(), 1);
+  inInfo->Set(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
   return 1;
+}
+
+int vtkDigitalIslandFilter::Reach() const
+{
+  return dg::ComponentReach(this->MinimumSize, this->RemoveIslands != 0, this->FillCavities != 0);
 }
 
 vtkMTimeType vtkDigitalIslandFilter::GetMTime()
@@ -86,8 +145,30 @@ int vtkDigitalIslandFilter::RequestData(
                                                                 << "; 1 changes nothing).");
     return 0;
   }
-  int ext[6];
+  // The input's box (the window labelled) and the requested one (the
+  // output's): the whole image both, unless a piece or a sub-extent was
+  // asked for.
+  int ext[6], whole[6], out[6];
   input->GetExtent(ext);
+  std::copy(ext, ext + 6, whole);
+  std::copy(ext, ext + 6, out);
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  if (inInfo && inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  {
+    inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
+  }
+  if (outInfo && outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
+  {
+    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), out);
+  }
+  if (dg::ExtentEmpty(out) && !dg::ExtentEmpty(whole))
+  {
+    // An empty piece (more pieces than voxels): nothing to do, no error.
+    output->CopyStructure(input);
+    output->SetExtent(out);
+    return 1;
+  }
   const int dims[3] = { ext[1] - ext[0] + 1, ext[3] - ext[2] + 1, ext[5] - ext[4] + 1 };
   if (dims[0] <= 0 || dims[1] <= 0 || dims[2] <= 0)
   {
@@ -96,6 +177,30 @@ int vtkDigitalIslandFilter::RequestData(
                                                   << ext[5] << ").");
     return 0;
   }
+  // Every voxel within the reach of the requested box must be there.
+  int needed[6];
+  dg::GrowExtent(out, this->Reach(), whole, needed);
+  if (!dg::ExtentContains(ext, needed))
+  {
+    vtkErrorMacro("The input (extent " << ext[0] << ".." << ext[1] << ", " << ext[2] << ".."
+                                       << ext[3] << ", " << ext[4] << ".." << ext[5]
+                                       << ") does not hold the requested extent grown by "
+                                       << this->Reach() << " voxels (" << needed[0] << ".."
+                                       << needed[1] << ", " << needed[2] << ".." << needed[3]
+                                       << ", " << needed[4] << ".." << needed[5] << ").");
+    return 0;
+  }
+  // The input's faces inside the whole extent are open: the volume goes on
+  // beyond them. Counts are of the requested box.
+  dg::ComponentWindow window;
+  for (int a = 0; a < 3; ++a)
+  {
+    window.OpenFaces |= (ext[2 * a] > whole[2 * a] ? 1u : 0u) << (2 * a);
+    window.OpenFaces |= (ext[2 * a + 1] < whole[2 * a + 1] ? 1u : 0u) << (2 * a + 1);
+    window.Counted[2 * a] = out[2 * a] - ext[2 * a];
+    window.Counted[2 * a + 1] = out[2 * a + 1] - ext[2 * a];
+  }
+  const bool sameBox = std::equal(out, out + 6, ext);
   const dg::VoxelSelection select{ this->SelectionMode, this->LowerThreshold,
     this->UpperThreshold, this->Label, this->SelectedComponent };
   // The selection is made and cleaned in the output array itself.
@@ -112,6 +217,13 @@ int vtkDigitalIslandFilter::RequestData(
     vtkErrorMacro("Cannot select voxels: " << error << ".");
     return 0;
   }
+  if (!sameBox)
+  {
+    insideCount = 0;
+    ForRows(dims, window.Counted, [&](std::int64_t first, std::int64_t n) {
+      insideCount += std::count(inside + first, inside + first + n, std::uint8_t(1));
+    });
+  }
   this->UpdateProgress(0.2);
   if (this->GetAbortExecute())
   {
@@ -120,10 +232,12 @@ int vtkDigitalIslandFilter::RequestData(
 
   dg::IslandCounts counts;
   const bool done = dg::RemoveSmallComponents(inside, dims, this->MinimumSize,
-    this->RemoveIslands != 0, this->FillCavities != 0, counts, [this](double f) {
+    this->RemoveIslands != 0, this->FillCavities != 0, counts,
+    [this](double f) {
       this->UpdateProgress(0.2 + 0.75 * f);
       return !this->GetAbortExecute();
-    });
+    },
+    &window);
   if (!done)
   {
     return this->Abort->Abort(outputVector);
@@ -138,7 +252,24 @@ int vtkDigitalIslandFilter::RequestData(
   }
 
   output->CopyStructure(input);
-  output->GetPointData()->SetScalars(values);
+  if (!sameBox)
+  {
+    // The requested box, row by row, out of the window.
+    vtkNew<vtkUnsignedCharArray> box;
+    box->SetName("Inside");
+    box->SetNumberOfValues(static_cast<vtkIdType>(out[1] - out[0] + 1) * (out[3] - out[2] + 1) *
+      (out[5] - out[4] + 1));
+    std::uint8_t* dst = box->GetPointer(0);
+    ForRows(dims, window.Counted, [&](std::int64_t first, std::int64_t n) {
+      dst = std::copy(inside + first, inside + first + n, dst);
+    });
+    output->SetExtent(out);
+    output->GetPointData()->SetScalars(box);
+  }
+  else
+  {
+    output->GetPointData()->SetScalars(values);
+  }
   const auto addCount = [output](const char* name, vtkIdType n) {
     vtkNew<vtkIntArray> a;
     a->SetName(name);

@@ -43,6 +43,31 @@
  * (1 inside, 0 outside), active, as vtkDigitalNoiseFilter's; its field data
  * has int arrays "RemovedIslands" and "FilledCavities" (one value each).
  * The result does not depend on the number of threads.
+ *
+ * Pieces and sub-extents: on any requested extent the output is exactly
+ * the whole-image result on that box (CAN_PRODUCE_SUB_EXTENT). The filter
+ * asks its input for the box grown by R = (MinimumSize - 1) voxels per pass
+ * on (2 (MinimumSize - 1) with both, 14 by default; clipped to the whole
+ * extent), as one piece, and labels that window: a component that touches
+ * a face of the window inside the image may continue beyond it and is
+ * kept, island or cavity, as large ones are. A small component meeting the
+ * box lies within MinimumSize - 2 voxels of it; a cavity's walls depend on
+ * the islands removed up to MinimumSize - 1 voxels out, and those islands
+ * on the next MinimumSize - 1 layers: hence twice the reach with both
+ * passes (dg::ComponentReach; TestIslandFilter shows a case that growing by
+ * MinimumSize alone gets wrong). A piece of an n-voxel cube costs the
+ * labelling of (n + 2R)^3 voxels instead of n^3, and an input with less
+ * than the grown box is an error. A piece request (UpdatePiece(p, n, g), a
+ * ParaView rank) is split by VTK's executive (vtkExtentTranslator, block
+ * mode, by cells: neighbouring pieces share a layer of voxels), g ghost
+ * layers included; the executive marks them in vtkGhostType (point and cell
+ * arrays), and the filter asks its input for that box grown by R, so ghost
+ * voxels are exact too. The counts (Get methods and field data) are those
+ * of the requested box: components whose first voxel (x fastest) lies in
+ * it, changed voxels in it; over disjoint boxes (dg::PieceExtent) they add
+ * up to the whole image's. An empty requested extent gives an empty image,
+ * no error. On the whole extent nothing of this applies: the output is
+ * the one of a single run.
  */
 #ifndef vtkDigitalIslandFilter_h
 #define vtkDigitalIslandFilter_h
@@ -167,6 +192,8 @@ protected:
   vtkIdType NumberOfChangedVoxels = 0;
 
 private:
+  // Voxel layers asked beyond the requested extent (dg::ComponentReach).
+  int Reach() const;
   std::unique_ptr<dg::PipelineAbort> Abort;
   vtkDigitalIslandFilter(const vtkDigitalIslandFilter&) = delete;
   void operator=(const vtkDigitalIslandFilter&) = delete;

@@ -33,6 +33,25 @@ int vtkDigitalNoiseFilter::RequestInformation(
   return 1;
 }
 
+int vtkDigitalNoiseFilter::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+{
+  // The noise of a voxel depends on its index in the whole image and on its
+  // distance to the boundary anywhere in it: always the whole extent, so
+  // that a piece sees the noise of a one-process run (its output is the
+  // whole image; downstream stages take their piece from it).
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  if (inInfo && inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  {
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
+      inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+  }
+  return 1;
+}
+
 vtkMTimeType vtkDigitalNoiseFilter::GetMTime()
 {
   const vtkMTimeType base = this->Superclass::GetMTime();

@@ -13,6 +13,13 @@
  * The draws come from a hash of (Seed, voxel index): the same seed gives the
  * same volume, whatever the number of threads. NoiseLevel 0 returns the
  * selection unchanged; the paper uses 0.1 ... 0.5.
+ *
+ * Pieces: the noise of a voxel depends on its index in the whole image and
+ * on its distance to the boundary anywhere in it, so the filter always
+ * reads and writes the whole extent, whatever piece is asked for: every
+ * piece then sees the one-process noise (memory: the whole volume on every
+ * process; a piece-local variant would need the distance transform's
+ * ghost exchange).
  */
 #ifndef vtkDigitalNoiseFilter_h
 #define vtkDigitalNoiseFilter_h
@@ -85,6 +92,7 @@ protected:
   ~vtkDigitalNoiseFilter() override;
 
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   double NoiseLevel = 0.3;

@@ -181,6 +181,20 @@ int vtkDigitalSurfaceFilter::RequestUpdateExtent(
 }
 
 int vtkDigitalSurfaceFilter::RequestData(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  const int status = this->ExecutePiece(request, inputVector, outputVector);
+  // In a distributed run every piece stops when one fails: the later
+  // stages' collective steps would otherwise wait for it forever.
+  if (!dg::AllPiecesOk(outputVector->GetInformationObject(0), status != 0))
+  {
+    vtkPolyData::GetData(outputVector)->Initialize();
+    return 0;
+  }
+  return status;
+}
+
+int vtkDigitalSurfaceFilter::ExecutePiece(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkImageData* input = vtkImageData::GetData(inputVector[0]);
@@ -427,8 +441,11 @@ int vtkDigitalSurfaceFilter::RequestData(
   output->GetCellData()->SetNormals(normals);
   output->GetCellData()->AddArray(voxels);
   output->GetCellData()->AddArray(directions);
-  output->GetCellData()->SetGlobalIds(cellIds);
-  output->GetPointData()->SetGlobalIds(pointIds);
+  if (piece.Distributed() || this->GenerateGlobalIds)
+  {
+    output->GetCellData()->SetGlobalIds(cellIds);
+    output->GetPointData()->SetGlobalIds(pointIds);
+  }
   if (piece.Distributed() && piece.Ghosts > 0)
   {
     vtkNew<vtkUnsignedCharArray> ghostArray;
@@ -471,4 +488,5 @@ void vtkDigitalSurfaceFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "UpperThreshold: " << this->UpperThreshold << "\n";
   os << indent << "Label: " << this->Label << "\n";
   os << indent << "SelectedComponent: " << this->SelectedComponent << "\n";
+  os << indent << "GenerateGlobalIds: " << (this->GenerateGlobalIds ? "On" : "Off") << "\n";
 }

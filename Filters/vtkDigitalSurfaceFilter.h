@@ -17,7 +17,10 @@
  *   "InsideVoxel" (int, 3 components): structured index (i, j, k) of the
  *   surfel's inside voxel in the image's index space; "SurfelDirection"
  *   (unsigned char): 0..5 for -x, +x, -y, +y, -z, +z (axis = d / 2);
- * - cell data "GlobalIds" (vtkIdType, the cell data's global ids):
+ * - with pieces, or with GenerateGlobalIds on (off by default: ParaView's
+ *   array menus of later filters on the same image would otherwise offer
+ *   "GlobalIds" as their default array), cell data "GlobalIds" (vtkIdType,
+ *   the cell data's global ids):
  *   ((k * Ny + j) * Nx + i) * 6 + d, with (i, j, k) the inside voxel counted
  *   from the lower corner of the whole extent, (Nx, Ny, Nz) the whole
  *   extent's dimensions and d the direction; point data "GlobalIds" (the
@@ -143,6 +146,17 @@ public:
    */
   static vtkInformationIntegerKey* IMAGE_GHOST_LEVELS();
 
+  ///@{
+  /**
+   * Adds the cell and point "GlobalIds" in a one-piece run too (they are
+   * always there when the output is one of several pieces), e.g. to compare
+   * a one-process result with a distributed one. Default off.
+   */
+  vtkSetMacro(GenerateGlobalIds, bool);
+  vtkGetMacro(GenerateGlobalIds, bool);
+  vtkBooleanMacro(GenerateGlobalIds, bool);
+  ///@}
+
 protected:
   vtkDigitalSurfaceFilter();
   ~vtkDigitalSurfaceFilter() override;
@@ -151,12 +165,15 @@ protected:
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  // RequestData of this piece alone (RequestData adds the pieces' agreement).
+  int ExecutePiece(vtkInformation*, vtkInformationVector**, vtkInformationVector*);
 
   int SelectionMode = NON_ZERO;
   double LowerThreshold = 1.0;
   double UpperThreshold = VTK_DOUBLE_MAX;
   double Label = 1.0;
   int SelectedComponent = -1;
+  bool GenerateGlobalIds = false;
 
 private:
   std::unique_ptr<dg::PipelineAbort> Abort;

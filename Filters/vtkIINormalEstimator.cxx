@@ -203,6 +203,20 @@ vtkMTimeType vtkIINormalEstimator::GetMTime()
 }
 
 int vtkIINormalEstimator::RequestData(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  const int status = this->ExecutePiece(request, inputVector, outputVector);
+  // In a distributed run every piece stops when one fails: the later
+  // stages' collective steps would otherwise wait for it forever.
+  if (!dg::AllPiecesOk(outputVector->GetInformationObject(0), status != 0))
+  {
+    vtkPolyData::GetData(outputVector)->Initialize();
+    return 0;
+  }
+  return status;
+}
+
+int vtkIINormalEstimator::ExecutePiece(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkPolyData* surface = vtkPolyData::GetData(inputVector[0]);

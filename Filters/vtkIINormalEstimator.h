@@ -202,6 +202,8 @@ protected:
   // Voxel layers beyond a surfel that its ball reads: ceil(r) + 1.
   int BallReach(vtkInformation* sourceInfo) const;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  // RequestData of this piece alone (RequestData adds the pieces' agreement).
+  int ExecutePiece(vtkInformation*, vtkInformationVector**, vtkInformationVector*);
 
   double Radius = 3.0;
   int RadiusUnits = VOXELS;

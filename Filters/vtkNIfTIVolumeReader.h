@@ -26,14 +26,32 @@
  *
  * Only the first time point of a 4-D file is read. Errors (missing file,
  * not NIfTI, sheared transform) give an error and an empty output.
+ *
+ * Pieces and sub-extents (CAN_PRODUCE_SUB_EXTENT): the output is exactly
+ * the requested UPDATE_EXTENT with the whole read's origin, spacing and
+ * direction (the extent carries the offset). vtkNIFTIImageReader reads
+ * whole volumes only (a .nii.gz is one gzip stream), so each request reads
+ * the whole volume and copies the box out (dg::CopyExtent): a piece costs
+ * the time of a full read and holds the whole volume, at its voxel type,
+ * while it runs, besides its own box (fandisk-256 as .nii.gz, one piece
+ * of 2: docs/pieces-readers.md). A piece request is turned into the extent by VTK's
+ * executive (vtkExtentTranslator, block mode, by cells: neighbouring pieces
+ * share one layer of voxels), grown by the ghost layers asked for, which the
+ * executive marks in vtkGhostType (point and cell arrays) as for any
+ * structured source. The header is read once per RequestInformation, and
+ * RequestData reads the voxels through the same vtkNIFTIImageReader (two
+ * opens of the file per update instead of seven before).
  */
 #ifndef vtkNIfTIVolumeReader_h
 #define vtkNIfTIVolumeReader_h
 
 #include "vtkDigitalGeometryModule.h"
 #include "vtkImageAlgorithm.h"
+#include "vtkSmartPointer.h"
 
 #include <string>
+
+class vtkNIFTIImageReader;
 
 class VTKDIGITALGEOMETRY_EXPORT vtkNIfTIVolumeReader : public vtkImageAlgorithm
 {
@@ -86,8 +104,16 @@ protected:
   int GeometrySource = NONE;
 
 private:
-  // Reads the header and computes the geometry; false with a message.
-  bool Geometry(double origin[3], double spacing[3], double direction[9], std::string& error);
+  // Runs r on FileName (information only, or the voxels too); false with a
+  // message.
+  bool Open(vtkNIFTIImageReader* r, bool withData, std::string& error);
+  // The geometry from r's header (no file access); false with a message.
+  bool Geometry(vtkNIFTIImageReader* r, bool warn, double origin[3], double spacing[3],
+    double direction[9], std::string& error);
+
+  // VTK's reader of the last RequestInformation: the header is read once
+  // per update, by it; RequestData reads the voxels through it.
+  vtkSmartPointer<vtkNIFTIImageReader> Inner;
 
   vtkNIfTIVolumeReader(const vtkNIfTIVolumeReader&) = delete;
   void operator=(const vtkNIfTIVolumeReader&) = delete;

@@ -1,5 +1,6 @@
 #include "vtkSharpFeaturesFilter.h"
 
+#include "dgPieces.h"
 #include "dgPipelineAbort.h"
 #include "dgSharpFeatures.h"
 
@@ -7,6 +8,7 @@
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
 #include <vtkDataArrayRange.h>
+#include <vtkMultiProcessController.h>
 #include <vtkDoubleArray.h>
 #include <vtkIdTypeArray.h>
 #include <vtkInformation.h>
@@ -55,6 +57,17 @@ int vtkSharpFeaturesFilter::FillInputPortInformation(int, vtkInformation* info)
 int vtkSharpFeaturesFilter::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
+  if (vtkMultiProcessController* c = dg::PieceController(outputVector->GetInformationObject(0)))
+  {
+    if (c->GetLocalProcessId() == 0)
+    {
+      vtkErrorMacro("The sharp-features stage runs in one process only (its regions are global); "
+                    "in a distributed run use the Ambrosio-Tortorelli outputs (ATNormals, "
+                    "ATFeatureIndicator, the feature lines) or run this stage on the gathered "
+                    "surface.");
+    }
+    return 0;
+  }
   Internals& internal = *this->Internal;
   const auto abortGuard = internal.Abort.Begin(this, outputVector);
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);

@@ -35,6 +35,11 @@
  * Parameters are in grid units (face steps), like AT's. Bad input (no
  * polygons, missing or wrongly sized arrays, bad parameters) gives an error
  * and empty outputs; aborting gives empty outputs without an error.
+ *
+ * Pieces: the region growing and merging are global (a region can span
+ * the whole surface), so the filter runs in one process only; asked for one
+ * of several pieces under a multi-process controller, it reports an error
+ * (from process 0) and gives empty outputs on every process.
  */
 #ifndef vtkSharpFeaturesFilter_h
 #define vtkSharpFeaturesFilter_h

@@ -1,16 +1,20 @@
 // The .vol decoder and vtkDGtalVolReader: round trips through files written
-// here (both versions), a real VolGallery file when ../shared is present, and
-// every corrupt variant failing cleanly.
+// here (both versions), sub-extents and pieces (with ghost layers) equal to
+// the box of the whole read, a real VolGallery file when ../shared is
+// present, and every corrupt variant failing cleanly.
 #include "dgTestShapes.h"
 #include "dgVolFormat.h"
 #include "vtkDGtalVolReader.h"
 #include "vtkDigitalSurfaceFilter.h"
 
+#include <vtkExtentTranslator.h>
 #include <vtkImageData.h>
+#include <vtkInformation.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
 #include <vtkUnsignedCharArray.h>
+#include <vtkDataSetAttributes.h>
 
 #include <gtest/gtest.h>
 #include "dgTestTemp.h"
@@ -57,6 +61,36 @@ void ExpectReaderFails(const std::string& path, const char* what)
     << what;
   EXPECT_STRNE(reader->GetErrorMessage(), "") << what;
 }
+
+std::vector<int> Extent(vtkImageData* image)
+{
+  int e[6];
+  image->GetExtent(e);
+  return std::vector<int>(e, e + 6);
+}
+
+// Every voxel of `part` equals the same voxel of `whole` (by structured
+// index), and part's geometry is whole's.
+void ExpectBoxOfWhole(vtkImageData* whole, vtkImageData* part, const std::string& what)
+{
+  int e[6];
+  part->GetExtent(e);
+  for (int a = 0; a < 3; ++a)
+  {
+    EXPECT_EQ(part->GetOrigin()[a], whole->GetOrigin()[a]) << what;
+    EXPECT_EQ(part->GetSpacing()[a], whole->GetSpacing()[a]) << what;
+  }
+  auto* s = vtkUnsignedCharArray::SafeDownCast(part->GetPointData()->GetScalars());
+  ASSERT_NE(s, nullptr) << what;
+  EXPECT_STREQ(s->GetName(), "Value") << what;
+  ASSERT_EQ(s->GetNumberOfValues(), part->GetNumberOfPoints()) << what;
+  for (int k = e[4]; k <= e[5]; ++k)
+    for (int j = e[2]; j <= e[3]; ++j)
+      for (int i = e[0]; i <= e[1]; ++i)
+        ASSERT_EQ(part->GetScalarComponentAsDouble(i, j, k, 0),
+          whole->GetScalarComponentAsDouble(i, j, k, 0))
+          << what << " at " << i << " " << j << " " << k;
+}
 } // namespace
 
 TEST(VolReader, RoundTripBothVersions)
@@ -88,6 +122,89 @@ TEST(VolReader, RoundTripBothVersions)
         {
           const std::size_t idx = (std::size_t(k) * dims[1] + j) * dims[0] + i;
           ASSERT_EQ(image->GetScalarComponentAsDouble(i, j, k, 0), voxels[idx]);
+        }
+  }
+}
+
+TEST(VolReader, SubExtentsAreBoxesOfTheWholeRead)
+{
+  const int dims[3] = { 23, 17, 11 };
+  const auto voxels = RandomVolume(dims, 5);
+  for (int version : { 2, 3 })
+  {
+    const std::string path = TempPath("sub" + std::to_string(version) + ".vol");
+    std::string error;
+    ASSERT_TRUE(dg::WriteVolFile(path, dims, voxels.data(), version, error)) << error;
+    vtkNew<vtkDGtalVolReader> whole;
+    whole->SetFileName(path.c_str());
+    whole->Update();
+    ASSERT_EQ(whole->GetOutput()->GetNumberOfPoints(), 23 * 17 * 11);
+    EXPECT_EQ(whole->GetOutput()->GetPointData()->GetArray(vtkDataSetAttributes::GhostArrayName()),
+      nullptr);
+    // Inside, on every border, one voxel thick along each axis, a single
+    // voxel, a corner, the whole extent.
+    const std::vector<std::vector<int>> boxes = { { 3, 15, 2, 9, 4, 7 }, { 0, 22, 0, 16, 0, 4 },
+      { 0, 5, 10, 16, 6, 10 }, { 17, 22, 0, 16, 0, 10 }, { 7, 7, 0, 16, 0, 10 },
+      { 0, 22, 16, 16, 0, 10 }, { 2, 20, 3, 13, 10, 10 }, { 22, 22, 16, 16, 10, 10 },
+      { 0, 0, 0, 0, 0, 0 }, { 0, 22, 0, 16, 0, 10 } };
+    for (const auto& box : boxes)
+    {
+      const std::string what = "version " + std::to_string(version) + " box " +
+        std::to_string(box[0]) + ".." + std::to_string(box[1]) + " " + std::to_string(box[2]) +
+        ".." + std::to_string(box[3]) + " " + std::to_string(box[4]) + ".." +
+        std::to_string(box[5]);
+      vtkNew<vtkDGtalVolReader> reader;
+      reader->SetFileName(path.c_str());
+      reader->UpdateInformation();
+      ASSERT_EQ(reader->GetOutputInformation(0)->Get(vtkAlgorithm::CAN_PRODUCE_SUB_EXTENT()), 1);
+      ASSERT_TRUE(reader->UpdateExtent(box.data())) << what;
+      EXPECT_EQ(Extent(reader->GetOutput()), box) << what;
+      ExpectBoxOfWhole(whole->GetOutput(), reader->GetOutput(), what);
+      EXPECT_EQ(
+        reader->GetOutput()->GetPointData()->GetArray(vtkDataSetAttributes::GhostArrayName()),
+        nullptr)
+        << what;
+    }
+    // Pieces as the executive makes them (vtkExtentTranslator, block mode,
+    // by cells: neighbours share a layer of voxels), with ghost layers
+    // marked in vtkGhostType by the executive.
+    const int wholeExtent[6] = { 0, 22, 0, 16, 0, 10 };
+    for (int n : { 2, 3, 4, 7 })
+      for (int ghosts : { 0, 1, 2 })
+        for (int p = 0; p < n; ++p)
+        {
+          const std::string what = "version " + std::to_string(version) + " piece " +
+            std::to_string(p) + " of " + std::to_string(n) + " ghosts " + std::to_string(ghosts);
+          int expected[6], own[6], we[6];
+          std::copy(wholeExtent, wholeExtent + 6, we);
+          vtkNew<vtkExtentTranslator> t;
+          t->PieceToExtentThreadSafe(p, n, ghosts, we, expected, vtkExtentTranslator::BLOCK_MODE, 0);
+          t->PieceToExtentThreadSafe(p, n, 0, we, own, vtkExtentTranslator::BLOCK_MODE, 0);
+          vtkNew<vtkDGtalVolReader> reader;
+          reader->SetFileName(path.c_str());
+          ASSERT_TRUE(reader->UpdatePiece(p, n, ghosts)) << what;
+          vtkImageData* out = reader->GetOutput();
+          EXPECT_EQ(Extent(out), std::vector<int>(expected, expected + 6)) << what;
+          ExpectBoxOfWhole(whole->GetOutput(), out, what);
+          vtkDataArray* ghost =
+            out->GetPointData()->GetArray(vtkDataSetAttributes::GhostArrayName());
+          if (ghosts == 0)
+          {
+            EXPECT_EQ(ghost, nullptr) << what;
+            continue;
+          }
+          ASSERT_NE(ghost, nullptr) << what;
+          // A voxel is a ghost exactly when it lies outside the piece's own box.
+          for (int k = expected[4]; k <= expected[5]; ++k)
+            for (int j = expected[2]; j <= expected[3]; ++j)
+              for (int i = expected[0]; i <= expected[1]; ++i)
+              {
+                int ijk[3] = { i, j, k };
+                const bool inOwn = i >= own[0] && i <= own[1] && j >= own[2] && j <= own[3] &&
+                  k >= own[4] && k <= own[5];
+                ASSERT_EQ(ghost->GetTuple1(out->ComputePointId(ijk)) != 0, !inOwn)
+                  << what << " at " << i << " " << j << " " << k;
+              }
         }
   }
 }

@@ -3,8 +3,9 @@ with known geometry: oblique directions with det +1 and det -1 (qfac -1),
 anisotropic spacing, non-zero origin. The digital surface's points must sit
 at the analytic world positions of the voxel corners (LPS by default, RAS on
 request), its quads face outward in world space, the sform wins over the
-qform as in nibabel, a sheared sform is refused, and a header without either
-gives the voxel size with a warning."""
+qform as in nibabel, a sheared sform is refused, a header without either
+gives the voxel size with a warning, and sub-extents and pieces (with ghost
+layers) are the boxes of the whole read with its geometry."""
 import os
 import subprocess
 import sys
@@ -13,6 +14,7 @@ import tempfile
 import numpy as np
 import nibabel as nib
 from vtkmodules.vtkCommonCore import vtkCommand
+from vtkmodules.vtkCommonExecutionModel import vtkAlgorithm, vtkExtentTranslator
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
@@ -153,6 +155,103 @@ bare = write("bare.nii.gz", affine(1), affine(1), qcode=0, scode=0)
 r, pd, seen = surface(bare)
 check(r.GetGeometrySource() == 0 and seen.warnings and pd.GetNumberOfPolys() == n_box,
       "no qform or sform: a warning, the box in index space scaled by pixdim")
+
+# Sub-extents and pieces: every box is the same box of the whole read, with
+# the whole read's origin, spacing and direction (int16 labels, qfac -1 so
+# that the slices are reversed on reading).
+rng = np.random.default_rng(7)
+labels = rng.integers(-3, 9, size=(21, 17, 13)).astype(np.int16)
+lab_path = os.path.join(TMP, "labels.nii.gz")
+img = nib.Nifti1Image(labels, affine(-1))
+img.set_qform(affine(-1), code=1)
+img.set_sform(affine(-1), code=0)
+nib.save(img, lab_path)
+
+
+def read(request=None):
+    r = vtkNIfTIVolumeReader()
+    seen = Errors()
+    seen.watch(r)
+    r.SetFileName(lab_path)
+    if request is None:
+        r.Update()
+    elif len(request) == 6:
+        r.UpdateExtent(request)
+    else:
+        r.UpdatePiece(*request)
+    return r, seen
+
+
+def voxels(image):
+    e = image.GetExtent()
+    shape = (e[5] - e[4] + 1, e[3] - e[2] + 1, e[1] - e[0] + 1)
+    return vtk_to_numpy(image.GetPointData().GetScalars()).reshape(shape)
+
+
+def geometry(image):
+    d = image.GetDirectionMatrix()
+    return (image.GetOrigin(), image.GetSpacing(), tuple(d.GetElement(a, b) for a in range(3) for b in range(3)))
+
+
+whole_r, seen = read()
+whole = voxels(whole_r.GetOutput())
+we = whole_r.GetOutput().GetExtent()
+check(not seen.errors and we == (0, 20, 0, 16, 0, 12), "labels: whole read, extent %s" % (we,))
+check(whole_r.GetOutputInformation(0).Get(vtkAlgorithm.CAN_PRODUCE_SUB_EXTENT()) == 1,
+      "the reader says it produces sub-extents")
+boxes = [(3, 15, 2, 9, 4, 7), (0, 20, 0, 16, 0, 3), (0, 5, 10, 16, 6, 12), (15, 20, 0, 16, 0, 12),
+         (7, 7, 0, 16, 0, 12), (0, 20, 16, 16, 0, 12), (2, 18, 3, 13, 12, 12), (20, 20, 16, 16, 12, 12),
+         (0, 0, 0, 0, 0, 0)]
+ok_boxes = []
+for box in boxes:
+    r, seen = read(box)
+    out = r.GetOutput()
+    i0, i1, j0, j1, k0, k1 = box
+    ok_boxes.append(not seen.errors and out.GetExtent() == box and
+                    geometry(out) == geometry(whole_r.GetOutput()) and
+                    np.array_equal(voxels(out), whole[k0:k1 + 1, j0:j1 + 1, i0:i1 + 1]) and
+                    out.GetPointData().GetArray("vtkGhostType") is None)
+check(all(ok_boxes), "%d sub-extents (border, one voxel thick, single voxel) equal the whole read's boxes, "
+      "same geometry (%s)" % (len(boxes), ok_boxes))
+ok_pieces, n_pieces = [], 0
+for n in (2, 3, 4):
+    for ghosts in (0, 1, 2):
+        for p in range(n):
+            expected, own = [0] * 6, [0] * 6
+            vtkExtentTranslator().PieceToExtentThreadSafe(p, n, ghosts, list(we), expected, vtkExtentTranslator.BLOCK_MODE, 0)
+            vtkExtentTranslator().PieceToExtentThreadSafe(p, n, 0, list(we), own, vtkExtentTranslator.BLOCK_MODE, 0)
+            r, seen = read((p, n, ghosts))
+            out = r.GetOutput()
+            e = out.GetExtent()
+            good = not seen.errors and e == tuple(expected) and geometry(out) == geometry(whole_r.GetOutput())
+            good = good and np.array_equal(voxels(out), whole[e[4]:e[5] + 1, e[2]:e[3] + 1, e[0]:e[1] + 1])
+            ghost = out.GetPointData().GetArray("vtkGhostType")
+            if ghosts == 0:
+                good = good and ghost is None
+            else:
+                g = vtk_to_numpy(ghost).reshape(voxels(out).shape) != 0
+                k, j, i = np.meshgrid(np.arange(e[4], e[5] + 1), np.arange(e[2], e[3] + 1),
+                                      np.arange(e[0], e[1] + 1), indexing="ij")
+                inside = ((i >= own[0]) & (i <= own[1]) & (j >= own[2]) & (j <= own[3]) &
+                          (k >= own[4]) & (k <= own[5]))
+                good = good and np.array_equal(g, ~inside)
+            ok_pieces.append(good)
+            n_pieces += 1
+check(all(ok_pieces), "%d pieces (2, 3, 4 pieces, 0-2 ghost layers): the executive's extents, the whole read's "
+      "voxels, vtkGhostType on exactly the ghost layers" % n_pieces)
+# One reader, several requests in turn: each re-reads its own box.
+r = vtkNIfTIVolumeReader()
+r.SetFileName(lab_path)
+seq_ok = []
+for box in boxes[:4]:
+    r.UpdateExtent(box)
+    i0, i1, j0, j1, k0, k1 = box
+    out = r.GetOutput()
+    # The executive may keep a larger earlier result that holds the box.
+    e = out.GetExtent()
+    holds = e[0] <= i0 and e[1] >= i1 and e[2] <= j0 and e[3] >= j1 and e[4] <= k0 and e[5] >= k1
+    seq_ok.append(holds and np.array_equal(voxels(out), whole[e[4]:e[5] + 1, e[2]:e[3] + 1, e[0]:e[1] + 1]))
+check(all(seq_ok), "one reader, successive sub-extents: right voxels each time (%s)" % seq_ok)
 
 # The program on a .nii.gz: the written surface is in LPS.
 program = os.environ.get("DG_PROGRAM")
