@@ -260,13 +260,22 @@ def array(data, name):
 class Result:
     """A run's surface and feature lines, indexed by global ids."""
 
-    def __init__(self, surface, features):
-        """surface, features: file names (.vtp or .pvtp) or vtkPolyData."""
+    def __init__(self, surface, features, reference=False):
+        """surface, features: file names (.vtp or .pvtp) or vtkPolyData.
+        reference: a one-process run, which writes no GlobalIds (the filter
+        adds them to one piece only on request): the contract's ids are
+        computed from its InsideVoxel, SurfelDirection and point positions."""
         self.surface = read_polydata(surface) if isinstance(surface, str) else surface
         self.features = read_polydata(features) if isinstance(features, str) else features
         s = self.surface
         self.cell_ids = array(s.GetCellData(), "GlobalIds")
         self.point_ids = array(s.GetPointData(), "GlobalIds")
+        self.derived = False
+        if reference and self.cell_ids is None and s.GetNumberOfCells() and \
+                s.GetCellData().GetArray("InsideVoxel") is not None:
+            whole = [int(x) for x in ns.vtk_to_numpy(s.GetFieldData().GetArray("ImageExtent"))]
+            self.cell_ids, self.point_ids = contract_ids(s, whole)
+            self.derived = True
         self.ii = array(s.GetCellData(), "IINormals")
         self.at = array(s.GetCellData(), "ATNormals")
         self.v = array(s.GetPointData(), "ATFeatureIndicator")

@@ -6,7 +6,7 @@ rank, and no output under the final names); a bad option and a missing input
 (every rank's failure: one message, from rank 0); and the picture of a
 2-rank run (pieces gathered on rank 0) against the one-process picture.
 pvbatch: one rank given a bad II radius (DG_MPI_BAD_RANK) stops the run
-within 10 s with that rank's one line."""
+within 15 s (pvbatch's start included) with that rank's one line."""
 import os
 import shutil
 import subprocess
@@ -51,8 +51,9 @@ def program_errors():
     with open(slabs[2], "wb") as f:
         f.write(data[:len(data) // 2])
     out = os.path.join(ROOT, "corrupt")
-    # --min-component 0: the island stage reads the whole volume on every
-    # rank until it is piece-aware.
+    # --min-component 0: the island stage reaches 2 (MinimumSize - 1) = 14
+    # voxels beyond a piece (docs/pieces-readers.md), which would take rank 0
+    # into the corrupt slab too.
     p, dt = run(MPIRUN + ["-np", "2", prog, "--quiet", "--no-png", "--min-component", "0",
                           "--output-dir", out, pvti])
     lines = ours(p.stderr, "piecewise-normals: rank")
@@ -119,7 +120,8 @@ def pvbatch_errors():
         lines = ours(p.stderr, "pv_pipeline:")
         print("info bad radius on rank %d of %d: exit %d in %.1f s; %s" % (bad, n, p.returncode, dt, lines))
         check(p.returncode != 0, "bad radius on rank %d of %d: exit non-zero (%d)" % (bad, n, p.returncode))
-        check(dt < 10, "bad radius on rank %d of %d: within 10 s (%.1f s)" % (bad, n, dt))
+        # pvbatch's own start on 3 ranks over 2 cores takes 3-8 s of it
+        check(dt < 15, "bad radius on rank %d of %d: within 15 s (%.1f s)" % (bad, n, dt))
         check(len(lines) == 1 and lines[0].startswith("pv_pipeline: rank %d of %d: " % (bad, n))
               and "Radius" in lines[0],
               "bad radius on rank %d of %d: one message, from that rank (%d lines)" % (bad, n, len(lines)))

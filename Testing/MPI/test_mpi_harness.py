@@ -1,7 +1,7 @@
 """The MPI comparisons themselves (no MPI needed): on a one-process program
-run, (1) the GlobalIds the filters write follow the contract (computed here
-from InsideVoxel, SurfelDirection and the point positions; when the filters
-write none, the computed ones stand in), (2) compare() passes on an exact
+run, (1) the GlobalIds follow the contract (computed here from InsideVoxel,
+SurfelDirection and the point positions; a one-process run writes none, and
+the computed ones stand in; test_mpi_compare checks the N-rank ones), (2) compare() passes on an exact
 copy and (3) fails on each wrong result a distributed run could give: an
 AT normal turned by 0.02 degree, v off by 2e-5, an II normal off by 1e-12,
 a surfel missing, a surfel twice, a feature edge missing, a border point
@@ -35,7 +35,7 @@ cells, points = mc.contract_ids(surface, whole)
 written_c = mc.array(surface.GetCellData(), "GlobalIds")
 written_p = mc.array(surface.GetPointData(), "GlobalIds")
 if written_c is None or written_p is None:
-    print("info the filters write no GlobalIds yet: the contract's, computed here, stand in")
+    print("info the one-process run writes no GlobalIds (only on request): the contract's, computed here, stand in")
     for data, ids in ((surface.GetCellData(), cells), (surface.GetPointData(), points)):
         a = ns.numpy_to_vtk(ids, deep=1, array_type=vtkIdTypeArray().GetDataType())
         a.SetName("GlobalIds")

@@ -31,7 +31,8 @@ for n in (1, 2):
     if not check(p.returncode == 0, "README example on %d rank(s) exits 0" % n):
         print(p.stderr[-3000:])
         break
-    results[n] = mc.Result(os.path.join(out, "v_surface.pvtp"), os.path.join(out, "v_features.pvtp"))
+    results[n] = mc.Result(os.path.join(out, "v_surface.pvtp"), os.path.join(out, "v_features.pvtp"),
+                           reference=(n == 1))
 if len(results) == 2:
     r = results[2]
     check(r.surface.GetNumberOfCells() > 1000, "2-rank .pvtp: one surface of %d cells" % r.surface.GetNumberOfCells())
