@@ -365,10 +365,9 @@ vtkSmartPointer<vtkAlgorithm> OpenImagePieces(const std::string& path, std::stri
   {
     return nullptr; // DICOM series: read whole
   }
-  const std::string ext = Extension(path);
-  if (ext == "nii" || ext == "gz" || ext == "dcm")
+  if (Extension(path) == "dcm")
   {
-    return nullptr; // NIfTI and DICOM readers give the whole volume only
+    return nullptr; // VTK's DICOM reader gives the whole volume only
   }
   vtkSmartPointer<vtkAlgorithm> reader = MakeReader(path, error, ras);
   if (!reader)

@@ -19,10 +19,11 @@ vtkSmartPointer<vtkImageData> ReadImage(const std::string& path, std::string& er
 
 /// For a run in pieces (several processes): the reader of path, its header
 /// read (UpdateInformation) but no voxel, when it can give any sub-extent
-/// the pipeline asks for (VTK's XML .vti/.pvti, MetaImage, NRRD, and
-/// .vol when vtkDGtalVolReader produces sub-extents). nullptr with error
-/// empty for a format that can only be read whole (NIfTI, DICOM): use
-/// ReadImage then; nullptr with error set when the header is bad.
+/// the pipeline asks for (VTK's XML .vti/.pvti, MetaImage, NRRD, the
+/// module's .vol and NIfTI readers: any reader that sets
+/// CAN_PRODUCE_SUB_EXTENT). nullptr with error empty for a format read
+/// whole only (DICOM): use ReadImage then; nullptr with error set when the
+/// header is bad.
 vtkSmartPointer<vtkAlgorithm> OpenImagePieces(const std::string& path, std::string& error, bool ras = false);
 
 /// After the pipeline ran: false with error set when the reader's piece

@@ -144,10 +144,10 @@ The sharp-features stage is not distributed: with N > 1 the output is AT's
 plain one (as --plain), and --second-pass, --ply and --obj are not available.
 The picture gathers the surface (points, quads, three normal fields) and the
 lines on rank 0: about 125 bytes per surfel there (twice that while the pieces
-arrive); --no-png avoids it. .vti,
-.pvti, .mha, .nrrd (and .vol when its reader gives sub-extents) are read piece
-by piece; other formats, the built-in shape and --noise need the whole volume
-on every rank (noise is drawn on the whole volume, as with one process).
+arrive); --no-png avoids it. Each rank keeps its piece of the volume (.vol and
+.nii read the whole file to cut it out); DICOM, the built-in shape and --noise
+need the whole volume on every rank (noise is drawn on the whole volume, as
+with one process).
 )";
 }
 

@@ -3,7 +3,8 @@
 program: a .pvti whose last slab file is corrupt (only the rank whose piece
 reaches it fails: the run exits non-zero within 10 s with one line from that
 rank, and no output under the final names); a bad option and a missing input
-(every rank's failure: one message, from rank 0); and the picture of a
+(every rank's failure: one message, from rank 0); an intact .pvti and a
+.vol read piece by piece (the .vti's result); and the picture of a
 2-rank run (pieces gathered on rank 0) against the one-process picture.
 pvbatch: one rank given a bad II radius (DG_MPI_BAD_RANK) stops the run
 within 15 s (pvbatch's start included) with that rank's one line."""
@@ -79,6 +80,34 @@ def program_errors():
     print("info missing input: exit %d in %.1f s; %s" % (p.returncode, dt, lines))
     check(p.returncode != 0 and len(lines) == 1 and "no such file" in lines[0],
           "missing input on 3 ranks: exit %d, one message (%d lines)" % (p.returncode, len(lines)))
+
+    # Inputs read piece by piece: an intact .pvti and a .vol of the same
+    # voxels give the .vti's 2-rank result.
+    intact, _ = mc.write_pvti(image, ROOT, "intact", [16, 32])
+    inside = mc.ns.vtk_to_numpy(image.GetPointData().GetScalars()).astype("uint8")
+    vol = os.path.join(ROOT, "ball.vol")
+    with open(vol, "wb") as f:
+        f.write(("X: %d\nY: %d\nZ: %d\nVoxel-Size: 1\nVersion: 2\n.\n" % dims).encode() + inside.tobytes())
+    vti0 = mc.write_vti(image, os.path.join(ROOT, "ball0.vti"))
+    got = {}
+    for name, path in (("vti", vti0), ("pvti", intact), ("vol", vol)):
+        out = os.path.join(ROOT, "in-" + name)
+        p, dt = run(MPIRUN + ["-np", "2", prog, "--quiet", "--no-png", "--output-dir", out, "--prefix", "b", path])
+        if check(p.returncode == 0, "2 ranks read the %s input (%.1f s)" % (name, dt)):
+            got[name] = mc.Result(os.path.join(out, "b_surface.pvtp"), os.path.join(out, "b_features.pvtp"))
+        else:
+            print(p.stderr[-2000:])
+    for name in ("pvti", "vol"):
+        if "vti" in got and name in got:
+            a, b = got["vti"], got[name]
+            same = a.cell_ids is not None and b.cell_ids is not None and \
+                np.array_equal(np.sort(a.cell_ids), np.sort(b.cell_ids))
+            d = float("inf")
+            if same:
+                oa, ob = np.argsort(a.cell_ids), np.argsort(b.cell_ids)
+                d = float(np.max(np.abs(a.at[oa] - b.at[ob])))
+            check(same and d == 0.0, "2 ranks on the %s input: the .vti's surfels and AT normals "
+                  "(%d surfels, max difference %.3g)" % (name, len(b.cell_ids) if b.cell_ids is not None else 0, d))
 
     # The picture: 2 ranks (gathered on rank 0) against one process --plain.
     vti = mc.write_vti(image, os.path.join(ROOT, "ball.vti"))
