@@ -114,56 +114,55 @@ vtkMultiProcessController* Processes::Controller() const
 #endif
 }
 
+#ifdef DG_HAVE_MPI
+namespace
+{
+template <typename T>
+T Reduced(vtkMultiProcessController* mpi, T value, int operation)
+{
+  if (!mpi)
+    return value;
+  T out{};
+  mpi->AllReduce(&value, &out, 1, operation);
+  return out;
+}
+} // namespace
+#endif
+
 long long Processes::Sum(long long value) const
 {
 #ifdef DG_HAVE_MPI
-  if (this->MPI)
-  {
-    long long out = 0;
-    this->MPI->AllReduce(&value, &out, 1, vtkCommunicator::SUM_OP);
-    return out;
-  }
-#endif
+  return Reduced(this->MPI.Get(), value, vtkCommunicator::SUM_OP);
+#else
   return value;
+#endif
 }
 
 double Processes::Sum(double value) const
 {
 #ifdef DG_HAVE_MPI
-  if (this->MPI)
-  {
-    double out = 0;
-    this->MPI->AllReduce(&value, &out, 1, vtkCommunicator::SUM_OP);
-    return out;
-  }
-#endif
+  return Reduced(this->MPI.Get(), value, vtkCommunicator::SUM_OP);
+#else
   return value;
+#endif
 }
 
 double Processes::Max(double value) const
 {
 #ifdef DG_HAVE_MPI
-  if (this->MPI)
-  {
-    double out = 0;
-    this->MPI->AllReduce(&value, &out, 1, vtkCommunicator::MAX_OP);
-    return out;
-  }
-#endif
+  return Reduced(this->MPI.Get(), value, vtkCommunicator::MAX_OP);
+#else
   return value;
+#endif
 }
 
 bool Processes::All(bool ok) const
 {
 #ifdef DG_HAVE_MPI
-  if (this->MPI)
-  {
-    int in = ok ? 1 : 0, out = 0;
-    this->MPI->AllReduce(&in, &out, 1, vtkCommunicator::MIN_OP);
-    return out == 1;
-  }
-#endif
+  return Reduced(this->MPI.Get(), ok ? 1 : 0, vtkCommunicator::MIN_OP) == 1;
+#else
   return ok;
+#endif
 }
 
 void Processes::Barrier() const

@@ -307,6 +307,17 @@ class Checks:
     def __init__(self):
         self.failures, self.count = [], 0
 
+    def finish(self, root):
+        """Prints the tally; removes the test's folder when all passed (kept
+        for a look otherwise); returns the exit status."""
+        import shutil
+        print("%d checks, %d failed" % (self.count, len(self.failures)))
+        for f in self.failures:
+            print("FAILED: " + f)
+        if not self.failures:
+            shutil.rmtree(root, ignore_errors=True)
+        return 1 if self.failures else 0
+
     def __call__(self, cond, what):
         self.count += 1
         print(("ok   " if cond else "FAIL ") + what, flush=True)

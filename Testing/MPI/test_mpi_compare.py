@@ -11,7 +11,6 @@ surface without duplicated cells; a second N-rank run is bitwise equal to
 the first. N = 1 (program): mpirun -np 1 writes the same files, byte for
 byte, as the program run without mpirun."""
 import os
-import shutil
 import subprocess
 import sys
 import tempfile
@@ -65,12 +64,7 @@ def pvbatch(ranks, tolerance, tag):
 
 
 def finish():
-    print("%d checks, %d failed" % (check.count, len(check.failures)))
-    for f in check.failures:
-        print("FAILED: " + f)
-    if not check.failures:
-        shutil.rmtree(ROOT, ignore_errors=True)
-    return 1 if check.failures else 0
+    return check.finish(ROOT)
 
 
 VOLUME = os.path.join(ROOT, CASE + ".vti")

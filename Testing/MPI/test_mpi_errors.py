@@ -9,7 +9,6 @@ rank, and no output under the final names); a bad option and a missing input
 pvbatch: one rank given a bad II radius (DG_MPI_BAD_RANK) stops the run
 within 15 s (pvbatch's start included) with that rank's one line."""
 import os
-import shutil
 import subprocess
 import sys
 import tempfile
@@ -157,9 +156,4 @@ def pvbatch_errors():
 
 
 program_errors() if TOOL == "program" else pvbatch_errors()
-print("%d checks, %d failed" % (check.count, len(check.failures)))
-for f in check.failures:
-    print("FAILED: " + f)
-if not check.failures:
-    shutil.rmtree(ROOT, ignore_errors=True)
-sys.exit(1 if check.failures else 0)
+sys.exit(check.finish(ROOT))

@@ -4,7 +4,6 @@ the <!-- pvbatch-example --> marker), on 2 ranks and on 1: it runs, the
 1-rank run by global ids (default solver tolerance: AT normals within 0.05
 degree, v within 1e-3)."""
 import os
-import shutil
 import subprocess
 import sys
 import tempfile
@@ -37,9 +36,4 @@ if len(results) == 2:
     r = results[2]
     check(r.surface.GetNumberOfCells() > 1000, "2-rank .pvtp: one surface of %d cells" % r.surface.GetNumberOfCells())
     mc.compare(results[1], r, check, "README example, 2 ranks vs 1", 0.05, 1e-3, assert_edges=False)
-print("%d checks, %d failed" % (check.count, len(check.failures)))
-for f in check.failures:
-    print("FAILED: " + f)
-if not check.failures:
-    shutil.rmtree(ROOT, ignore_errors=True)
-sys.exit(1 if check.failures else 0)
+sys.exit(check.finish(ROOT))
