@@ -14,6 +14,9 @@
 #include <vtkPointData.h>
 #include <vtkStringOutputWindow.h>
 #include <vtkXMLImageDataReader.h>
+#include <vtkXMLPImageDataReader.h>
+#include <vtkInformation.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
 
 #include <sys/stat.h>
 
@@ -166,12 +169,12 @@ std::string Extension(const std::string& path)
   return e;
 }
 
-vtkSmartPointer<vtkImageData> ReadImage(const std::string& path, std::string& error, bool ras)
+namespace
 {
-  ErrorSink sink;
-  vtkNew<vtkCallbackCommand> cb;
-  cb->SetCallback(&ErrorSink::Callback);
-  cb->SetClientData(&sink);
+// The reader for path, configured but not run; nullptr with error set when
+// the file cannot be one of ours.
+vtkSmartPointer<vtkAlgorithm> MakeReader(const std::string& path, std::string& error, bool ras)
+{
   vtkSmartPointer<vtkAlgorithm> reader;
   const std::string ext = Extension(path);
   if (IsDirectory(path))
@@ -207,6 +210,13 @@ vtkSmartPointer<vtkImageData> ReadImage(const std::string& path, std::string& er
   else if (ext == "vti")
   {
     auto r = vtkSmartPointer<vtkXMLImageDataReader>::New();
+    r->SetFileName(path.c_str());
+    reader = r;
+  }
+  else if (ext == "pvti")
+  {
+    // A parallel image: its pieces are read where the request needs them.
+    auto r = vtkSmartPointer<vtkXMLPImageDataReader>::New();
     r->SetFileName(path.c_str());
     reader = r;
   }
@@ -251,7 +261,34 @@ vtkSmartPointer<vtkImageData> ReadImage(const std::string& path, std::string& er
   else
   {
     error = "unknown input format '" + (ext.empty() ? path : "." + ext) +
-      "' (expected .vol, .vti, .nii, .nii.gz, .mha, .mhd, .nrrd, .nhdr, .dcm or a DICOM directory)";
+      "' (expected .vol, .vti, .pvti, .nii, .nii.gz, .mha, .mhd, .nrrd, .nhdr, .dcm or a DICOM directory)";
+    return nullptr;
+  }
+  return reader;
+}
+
+// The last line of VTK's report (it carries a "file, line" prefix and a
+// trailing newline): what went wrong.
+std::string LastLine(std::string m)
+{
+  while (!m.empty() && (m.back() == '\n' || m.back() == ' '))
+  {
+    m.pop_back();
+  }
+  const auto nl = m.find_last_of('\n');
+  return nl == std::string::npos ? m : m.substr(nl + 1);
+}
+} // namespace
+
+vtkSmartPointer<vtkImageData> ReadImage(const std::string& path, std::string& error, bool ras)
+{
+  ErrorSink sink;
+  vtkNew<vtkCallbackCommand> cb;
+  cb->SetCallback(&ErrorSink::Callback);
+  cb->SetClientData(&sink);
+  vtkSmartPointer<vtkAlgorithm> reader = MakeReader(path, error, ras);
+  if (!reader)
+  {
     return nullptr;
   }
   reader->AddObserver(vtkCommand::ErrorEvent, cb);
@@ -319,5 +356,84 @@ vtkSmartPointer<vtkImageData> ReadImage(const std::string& path, std::string& er
   auto result = vtkSmartPointer<vtkImageData>::New();
   result->ShallowCopy(image);
   return result;
+}
+
+vtkSmartPointer<vtkAlgorithm> OpenImagePieces(const std::string& path, std::string& error, bool ras)
+{
+  error.clear();
+  if (IsDirectory(path))
+  {
+    return nullptr; // DICOM series: read whole
+  }
+  if (Extension(path) == "dcm")
+  {
+    return nullptr; // VTK's DICOM reader gives the whole volume only
+  }
+  vtkSmartPointer<vtkAlgorithm> reader = MakeReader(path, error, ras);
+  if (!reader)
+  {
+    return nullptr;
+  }
+  // The header alone: geometry, whole extent, and whether the reader can
+  // give a sub-extent (vtkDGtalVolReader may not, in older builds).
+  ErrorSink sink;
+  vtkNew<vtkCallbackCommand> cb;
+  cb->SetCallback(&ErrorSink::Callback);
+  cb->SetClientData(&sink);
+  reader->AddObserver(vtkCommand::ErrorEvent, cb);
+  reader->AddObserver(vtkCommand::WarningEvent, cb);
+  reader->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, cb);
+  vtkSmartPointer<vtkOutputWindow> previous = vtkOutputWindow::GetInstance();
+  vtkNew<vtkStringOutputWindow> collected;
+  vtkOutputWindow::SetInstance(collected);
+  reader->UpdateInformation();
+  vtkOutputWindow::SetInstance(previous);
+  reader->RemoveObserver(cb);
+  reader->GetExecutive()->RemoveObserver(cb);
+  if (auto* vol = vtkDGtalVolReader::SafeDownCast(reader))
+  {
+    if (sink.Failed)
+    {
+      error = vol->GetErrorMessage();
+      return nullptr;
+    }
+  }
+  if (sink.Failed || !collected->GetOutput().empty())
+  {
+    const std::string m = sink.Message.empty() ? LastLine(collected->GetOutput()) : sink.Message;
+    error = "cannot read '" + path + "': " + (m.empty() ? "reader error" : m);
+    return nullptr;
+  }
+  vtkInformation* info = reader->GetOutputInformation(0);
+  if (!info || !info->Get(vtkAlgorithm::CAN_PRODUCE_SUB_EXTENT()) ||
+    !info->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  {
+    return nullptr; // this reader gives the whole volume only
+  }
+  return reader;
+}
+
+bool CheckImagePiece(vtkAlgorithm* reader, const std::string& path, std::string& error)
+{
+  vtkImageData* image = vtkImageData::SafeDownCast(reader->GetOutputDataObject(0));
+  if (!image)
+  {
+    error = "cannot read '" + path + "': not an image";
+    return false;
+  }
+  int dims[3];
+  image->GetDimensions(dims);
+  const long long n = static_cast<long long>(dims[0]) * dims[1] * dims[2];
+  if (n <= 0)
+  {
+    return true; // nothing was asked of this reader
+  }
+  vtkDataArray* scalars = image->GetPointData()->GetScalars();
+  if (!scalars || scalars->GetNumberOfTuples() != n)
+  {
+    error = "cannot read '" + path + "': no voxel data (truncated or corrupt file?)";
+    return false;
+  }
+  return true;
 }
 } // namespace dg

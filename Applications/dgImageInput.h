@@ -1,10 +1,11 @@
 // Reads a segmented volume in any format the program accepts: DGtal .vol,
-// VTK .vti, NIfTI .nii/.nii.gz (with its orientation, vtkNIfTIVolumeReader),
+// VTK .vti or .pvti, NIfTI .nii/.nii.gz (with its orientation, vtkNIfTIVolumeReader),
 // MetaImage .mha/.mhd, NRRD .nrrd/.nhdr, or a directory of DICOM slices.
 // Errors come back as one line, never as VTK's multi-line reports.
 #ifndef dgImageInput_h
 #define dgImageInput_h
 
+#include <vtkAlgorithm.h>
 #include <vtkImageData.h>
 #include <vtkSmartPointer.h>
 
@@ -15,6 +16,19 @@ namespace dg
 /// Returns nullptr and sets error on failure. ras: NIfTI in its own RAS
 /// coordinates instead of LPS (DICOM's and ITK's).
 vtkSmartPointer<vtkImageData> ReadImage(const std::string& path, std::string& error, bool ras = false);
+
+/// For a run in pieces (several processes): the reader of path, its header
+/// read (UpdateInformation) but no voxel, when it can give any sub-extent
+/// the pipeline asks for (VTK's XML .vti/.pvti, MetaImage, NRRD, the
+/// module's .vol and NIfTI readers: any reader that sets
+/// CAN_PRODUCE_SUB_EXTENT). nullptr with error empty for a format read
+/// whole only (DICOM): use ReadImage then; nullptr with error set when the
+/// header is bad.
+vtkSmartPointer<vtkAlgorithm> OpenImagePieces(const std::string& path, std::string& error, bool ras = false);
+
+/// After the pipeline ran: false with error set when the reader's piece
+/// lacks its voxels (truncated or corrupt file).
+bool CheckImagePiece(vtkAlgorithm* reader, const std::string& path, std::string& error);
 
 /// The lower-case extension of path ("vol", "nrrd", ...; "" for none).
 std::string Extension(const std::string& path);

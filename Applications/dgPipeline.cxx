@@ -1,20 +1,41 @@
 #include "dgPipeline.h"
 
+#include <vtkAlgorithmOutput.h>
+
 namespace dg
 {
 
 void Pipeline::Build(vtkImageData* image, const PipelineSettings& s)
 {
+  this->Build(image, nullptr, s);
+}
+
+void Pipeline::Build(vtkAlgorithmOutput* source, const PipelineSettings& s)
+{
+  this->Build(nullptr, source, s);
+}
+
+void Pipeline::Build(vtkImageData* image, vtkAlgorithmOutput* source, const PipelineSettings& s)
+{
   this->Settings = s;
   this->Input = image;
+  this->InputPort = source;
   this->Stages.clear();
   // The selection applies to the input; every stage after the noise or the
   // island filter sees a 0/1 volume and selects it as it is.
   int mode = s.SelectionMode;
+  // The stages' input: the image itself, or a source's port (a reader that
+  // gives each piece its sub-extent).
   vtkAlgorithmOutput* volume = nullptr;
+  auto connectInput = [&](vtkAlgorithm* stage) {
+    if (source)
+      stage->SetInputConnection(source);
+    else
+      stage->SetInputDataObject(image);
+  };
   if (s.Noise > 0)
   {
-    this->Noise->SetInputData(image);
+    connectInput(this->Noise);
     this->Noise->SetSelectionMode(mode);
     this->Noise->SetLowerThreshold(s.Lower);
     this->Noise->SetUpperThreshold(s.Upper);
@@ -30,7 +51,7 @@ void Pipeline::Build(vtkImageData* image, const PipelineSettings& s)
     if (volume)
       this->Islands->SetInputConnection(volume);
     else
-      this->Islands->SetInputData(image);
+      connectInput(this->Islands);
     this->Islands->SetSelectionMode(mode);
     this->Islands->SetLowerThreshold(s.Lower);
     this->Islands->SetUpperThreshold(s.Upper);
@@ -43,7 +64,7 @@ void Pipeline::Build(vtkImageData* image, const PipelineSettings& s)
   if (volume)
     this->Surface->SetInputConnection(volume);
   else
-    this->Surface->SetInputData(image);
+    connectInput(this->Surface);
   this->Surface->SetSelectionMode(mode);
   this->Surface->SetLowerThreshold(s.Lower);
   this->Surface->SetUpperThreshold(s.Upper);
@@ -53,6 +74,8 @@ void Pipeline::Build(vtkImageData* image, const PipelineSettings& s)
   this->II->SetInputConnection(this->Surface->GetOutputPort());
   if (volume)
     this->II->SetSourceConnection(volume);
+  else if (source)
+    this->II->SetSourceConnection(source);
   else
     this->II->SetSourceData(image);
   this->II->SetRadius(s.Radius);
@@ -74,6 +97,7 @@ void Pipeline::Build(vtkImageData* image, const PipelineSettings& s)
   this->AT->SetTolerance(s.Tolerance);
   this->AT->SetFeatureThreshold(s.FeatureThreshold);
   this->AT->SetLinearSolver(s.Solver);
+  this->AT->SetSolverTolerance(s.SolverTolerance);
   this->Stages.push_back({ "Ambrosio-Tortorelli", this->AT });
 
   if (s.Sharpen)
@@ -98,6 +122,7 @@ void Pipeline::Build(vtkImageData* image, const PipelineSettings& s)
       a->SetTolerance(s.Tolerance);
       a->SetFeatureThreshold(s.FeatureThreshold);
       a->SetLinearSolver(s.Solver);
+      a->SetSolverTolerance(s.SolverTolerance);
     }
     this->Stages.push_back({ "Ambrosio-Tortorelli 2", this->AT2 });
     this->Sharp2->SetInputConnection(this->AT2->GetOutputPort());
@@ -126,6 +151,9 @@ vtkImageData* Pipeline::Volume()
     return this->Islands->GetOutput();
   if (this->Settings.Noise > 0)
     return this->Noise->GetOutput();
+  if (this->InputPort)
+    return vtkImageData::SafeDownCast(this->InputPort->GetProducer()->GetOutputDataObject(
+      this->InputPort->GetIndex()));
   return this->Input;
 }
 

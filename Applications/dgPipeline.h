@@ -46,6 +46,8 @@ struct PipelineSettings
   int Iterations = 5;
   double Tolerance = 1e-4, FeatureThreshold = 0.5;
   int Solver = vtkAmbrosioTortorelliFilter::CONJUGATE_GRADIENT_IC;
+  // CG's relative residual (the filter's default).
+  double SolverTolerance = 1e-5;
   // One line per sharp edge and side normals (vtkSharpFeaturesFilter); off
   // gives the paper's own output (AT's lines and normals).
   bool Sharpen = true;
@@ -61,6 +63,9 @@ class Pipeline
 public:
   /// Connects the stages for `image` with `settings` (nothing runs).
   void Build(vtkImageData* image, const PipelineSettings& settings);
+  /// The same, fed by a source's output port (a reader that produces the
+  /// sub-extent each piece asks for), for runs in pieces.
+  void Build(vtkAlgorithmOutput* source, const PipelineSettings& settings);
 
   struct Stage
   {
@@ -74,7 +79,8 @@ public:
   /// final ones active) and the feature lines.
   vtkPolyData* Result();
   vtkPolyData* Features();
-  /// The voxels the surface was built from (after noise and islands).
+  /// The voxels the surface was built from (after noise and islands; a
+  /// piece of them when the pipeline ran for a piece).
   vtkImageData* Volume();
   /// Name of the final normal field ("SharpNormals" or "ATNormals").
   const char* NormalsName() const { return this->Settings.Sharpen ? "SharpNormals" : "ATNormals"; }
@@ -91,9 +97,11 @@ public:
   vtkNew<vtkSharpFeaturesFilter> Sharp2;
 
 private:
+  void Build(vtkImageData* image, vtkAlgorithmOutput* source, const PipelineSettings& settings);
   bool UseSecondPass() const { return this->Settings.Sharpen && this->Settings.SecondPass; }
   PipelineSettings Settings;
   vtkImageData* Input = nullptr;
+  vtkAlgorithmOutput* InputPort = nullptr;
 };
 
 } // namespace dg

@@ -5,19 +5,26 @@
 #include "dgImageInput.h"
 #include "dgRender.h"
 #include "dgPipeline.h"
+#include "dgProcesses.h"
 
 #include <vtkCellData.h>
 #include <vtkCommand.h>
 #include <vtkErrorCode.h>
 #include <vtkExecutive.h>
+#include <vtkInformation.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
+#include <vtkUnsignedCharArray.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkOBJWriter.h>
+#include <vtkOutputWindow.h>
+#include <vtkStringOutputWindow.h>
 #include <vtkPLYWriter.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
 #include <vtkSMPTools.h>
 #include <vtkXMLPolyDataWriter.h>
+#include <vtkXMLWriter.h>
 
 #include <sys/resource.h>
 #include <unistd.h>
@@ -28,6 +35,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -61,7 +69,7 @@ segmented volume and delineates its sharp features (Coeurjolly, Foare, Gueth,
 Lachaud, Pacific Graphics 2016): volume -> voxel-face surface -> integral-
 invariant normals -> Ambrosio-Tortorelli regularisation -> files + picture.
 
-INPUT   a DGtal .vol (Version 2 or 3), VTK .vti, NIfTI .nii/.nii.gz (its
+INPUT   a DGtal .vol (Version 2 or 3), VTK .vti or .pvti, NIfTI .nii/.nii.gz (its
         sform or qform: outputs in LPS patient coordinates, or RAS with --ras),
         MetaImage .mha/.mhd, NRRD .nrrd/.nhdr, a DICOM file (.dcm) or a
         directory of DICOM slices. With no INPUT: a built-in shape (rotated
@@ -94,6 +102,9 @@ Ambrosio-Tortorelli (lengths in voxels: the metric is the identity)
   --feature-threshold T  an edge is a feature when v < T at both ends (default 0.5)
   --solver S             linear solver: ic (default; CG with incomplete Cholesky),
                          cg (CG with Jacobi), ldlt (exact, 5-7x slower), cholmod
+  --solver-tolerance T   CG's relative residual (default 1e-5; 1e-8 makes the
+                         result independent of the preconditioner's blocks, e.g.
+                         of the number of processes, at about twice AT's time)
 Sharp features (after AT: one line per sharp edge, side normals up to it)
   --plain                the paper's own output instead: AT's normals and its
                          feature edges (a band of ladders along each edge)
@@ -124,12 +135,33 @@ each framing the whole object: the digital surface (its quads, flat shaded) |
 the input normals g (II) | the regularised normals u | the feature lines (red)
 on the surface; normals are shown as colours RGB = (n + 1) / 2, one per quad.
 Default layout 2 x 2 (1 2 / 3 4); with --panels 1 x 4 (1 2 3 4).
+
+Several processes: mpirun -np N piecewise-normals ... runs rank r on piece r
+of N (VTK's block split of the volume; AT solves one problem over all ranks)
+and writes PREFIX_surface.pvtp and PREFIX_features.pvtp with one .vtp piece
+per rank (PREFIX_surface_r.vtp), the summary and the picture from rank 0.
+The sharp-features stage is not distributed: with N > 1 the output is AT's
+plain one (as --plain), and --second-pass, --ply and --obj are not available.
+The picture gathers the surface (points, quads, three normal fields) and the
+lines on rank 0: about 125 bytes per surfel there (twice that while the pieces
+arrive); --no-png avoids it. Each rank keeps its piece of the volume (.vol and
+.nii read the whole file to cut it out); DICOM, the built-in shape and --noise
+need the whole volume on every rank (noise is drawn on the whole volume, as
+with one process).
 )";
+}
+
+// Under mpirun every rank parses the same options: rank 0 alone says what
+// is wrong with them (one message), every rank exits.
+bool PrintsCommonMessages()
+{
+  return dg::Processes::LauncherRank() == 0;
 }
 
 [[noreturn]] void OptionError(const std::string& message)
 {
-  std::cerr << Program << ": " << message << " (see --help)\n";
+  if (PrintsCommonMessages())
+    std::cerr << Program << ": " << message << " (see --help)\n";
   std::exit(2);
 }
 
@@ -160,7 +192,8 @@ Options ParseOptions(int argc, char* argv[])
     auto number = [&]() { return ParseNumber(arg, value()); };
     if (arg == "-h" || arg == "--help")
     {
-      Usage();
+      if (PrintsCommonMessages())
+        Usage();
       std::exit(0);
     }
     else if (arg == "--output-dir")
@@ -234,6 +267,8 @@ Options ParseOptions(int argc, char* argv[])
       else
         OptionError("--solver expects ic, cg, ldlt or cholmod (got '" + v + "')");
     }
+    else if (arg == "--solver-tolerance")
+      o.P.SolverTolerance = number();
     else if (arg == "--ras")
       o.Ras = true;
     else if (arg == "--compression")
@@ -284,6 +319,8 @@ Options ParseOptions(int argc, char* argv[])
     OptionError("--iterations must be >= 1");
   if (!(o.P.Tolerance > 0))
     OptionError("--tolerance must be > 0");
+  if (!(o.P.SolverTolerance > 0 && o.P.SolverTolerance < 1))
+    OptionError("--solver-tolerance must be in (0, 1)");
   if (!(o.P.FeatureThreshold > 0 && o.P.FeatureThreshold < 1))
     OptionError("--feature-threshold must be in (0, 1)");
   if (o.Width < 64 || o.Height < 64 || o.Width > 8192 || o.Height > 8192)
@@ -412,6 +449,392 @@ int Fail(const std::string& message)
   std::cerr << Program << ": " << message << "\n";
   return 1;
 }
+
+// ---------------------------------------------------------------------------
+// Several processes (mpirun -np N, N > 1): rank r runs the pipeline for piece
+// r of N and writes its piece of each .pvtp.
+
+// Per-stage times from the algorithms' own start and end: under pieces the
+// last stage is updated once (updating stage by stage would make the image
+// stages run twice: the II stage asks for more ghost voxels than the surface
+// alone), so the times are taken as each stage runs.
+class StageClock : public vtkCommand
+{
+public:
+  static StageClock* New() { return new StageClock; }
+  void Watch(vtkAlgorithm* algo, const std::string& name)
+  {
+    this->Names[algo] = name;
+    algo->AddObserver(vtkCommand::StartEvent, this);
+    algo->AddObserver(vtkCommand::EndEvent, this);
+  }
+  void Execute(vtkObject* caller, unsigned long event, void*) override
+  {
+    const auto it = this->Names.find(caller);
+    if (it == this->Names.end())
+      return;
+    const auto now = std::chrono::steady_clock::now();
+    if (event == vtkCommand::StartEvent)
+    {
+      this->Started[caller] = now;
+      if (this->Progress)
+        this->Progress->Stage = it->second;
+      return;
+    }
+    const double dt = std::chrono::duration<double>(now - this->Started[caller]).count();
+    for (auto& t : this->Times)
+    {
+      if (t.first == it->second)
+      {
+        t.second += dt;
+        return;
+      }
+    }
+    this->Times.emplace_back(it->second, dt);
+  }
+  std::map<vtkObject*, std::string> Names;
+  std::map<vtkObject*, std::chrono::steady_clock::time_point> Started;
+  std::vector<std::pair<std::string, double>> Times;
+  ProgressBar* Progress = nullptr;
+};
+
+void ConfigureXMLWriter(vtkXMLWriter* w, const std::string& compression)
+{
+  w->SetDataModeToBinary(); // appended data trips Debian's expat + VTK 9.2 reader
+  if (compression == "zlib")
+    w->SetCompressorTypeToZLib();
+  else if (compression == "none")
+    w->SetCompressorTypeToNone();
+  else
+    w->SetCompressorTypeToLZ4();
+}
+
+// The first error in text collected from VTK's output window ("ERROR: In
+// file, line N" then the message), as one line without the object's address.
+std::string FirstVTKError(const std::string& text)
+{
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line))
+  {
+    if (line.rfind("ERROR: In ", 0) != 0 || !std::getline(in, line))
+      continue;
+    const auto open = line.find(" (0x");
+    const auto close = line.find("): ", open == std::string::npos ? 0 : open);
+    if (open != std::string::npos && close != std::string::npos)
+      line = line.substr(0, open) + line.substr(close + 1);
+    return line;
+  }
+  return "";
+}
+
+// Owned cells of a piece (cells marked as ghosts by vtkGhostType excluded).
+long long OwnedCells(vtkPolyData* pd)
+{
+  vtkUnsignedCharArray* ghosts = pd->GetCellGhostArray();
+  if (!ghosts)
+    return pd->GetNumberOfCells();
+  long long n = 0;
+  for (vtkIdType c = 0; c < ghosts->GetNumberOfTuples(); ++c)
+    n += ghosts->GetValue(c) == 0 ? 1 : 0;
+  return n;
+}
+
+int RunPieces(Options opt, dg::Processes& procs)
+{
+  const int rank = procs.Rank(), size = procs.Size();
+  const bool root = rank == 0;
+  // A failure only this rank sees: say it with the rank, and exit non-zero
+  // at once (mpirun then ends the ranks that wait for this one in a
+  // collective step, within seconds).
+  auto rankFail = [&](const std::string& message) {
+    std::cerr << Program << ": rank " << rank << " of " << size << ": " << message << "\n";
+    std::cerr.flush();
+    return 1;
+  };
+  // A collective check: every rank learns whether all are fine; the lowest
+  // failing rank alone prints its message (one message, not N).
+  auto agreeOrFail = [&](bool ok, const std::string& message) {
+    const long long first = -procs.Max(ok ? -static_cast<double>(size) : -static_cast<double>(rank));
+    if (first >= size)
+      return true;
+    if (first == rank)
+      std::cerr << Program << ": " << (size > 1 ? "rank " + std::to_string(rank) + " of " +
+          std::to_string(size) + ": " : std::string()) << message << "\n";
+    return false;
+  };
+
+  if (opt.Ply || opt.Obj)
+  {
+    if (root)
+      std::cerr << Program << ": --ply and --obj are not available with " << size
+                << " processes (convert the .pvtp afterwards)\n";
+    return 2;
+  }
+  if (root)
+  {
+    std::cerr << Program << ": " << size << " processes: the sharp-features stage is not "
+              << "distributed; writing Ambrosio-Tortorelli's plain output (as --plain"
+              << (opt.P.SecondPass ? "; --second-pass ignored" : "") << ")\n";
+  }
+  opt.P.Sharpen = false;
+  opt.P.SecondPass = false;
+
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  {
+    std::error_code ec;
+    std::filesystem::create_directories(opt.OutputDir, ec);
+    const bool ok = !ec && std::filesystem::is_directory(opt.OutputDir);
+    if (!agreeOrFail(ok, "cannot create the output directory '" + opt.OutputDir + "': " +
+          (ec ? ec.message() : std::string("a file of that name exists"))))
+      return 1;
+  }
+
+  vtkNew<ProgressBar> progress;
+  progress->Enabled = root && !opt.Quiet && isatty(2);
+  vtkNew<ErrorCatcher> errors;
+  vtkNew<StageClock> clock;
+  clock->Progress = progress;
+  auto watch = [&](vtkAlgorithm* algo, const std::string& name, bool warningsFail) {
+    algo->AddObserver(vtkCommand::ErrorEvent, errors);
+    if (warningsFail)
+      algo->AddObserver(vtkCommand::WarningEvent, errors);
+    algo->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, errors);
+    algo->AddObserver(vtkCommand::ProgressEvent, progress);
+    clock->Watch(algo, name);
+  };
+
+  // 1. Input: a reader that gives each piece its sub-extent, or (formats read
+  // whole, the built-in shape, and noise, which is drawn on the whole volume
+  // as with one process) the whole volume on every rank.
+  vtkSmartPointer<vtkImageData> image;
+  vtkSmartPointer<vtkAlgorithm> reader;
+  std::string prefix = opt.Prefix;
+  double readTime = 0;
+  {
+    const auto t0 = Clock::now();
+    std::string error;
+    if (opt.Input.empty())
+    {
+      image = dg::MakeBuiltinShape(opt.BuiltinSize);
+      if (prefix.empty())
+        prefix = "builtin";
+    }
+    else
+    {
+      if (opt.P.Noise <= 0)
+        reader = dg::OpenImagePieces(opt.Input, error, opt.Ras);
+      if (!reader && error.empty())
+        image = dg::ReadImage(opt.Input, error, opt.Ras);
+      if (prefix.empty())
+        prefix = Stem(opt.Input);
+    }
+    // A bad header is every rank's failure: one message.
+    if (!agreeOrFail(error.empty(), error))
+      return 1;
+    readTime = std::chrono::duration<double>(Clock::now() - t0).count();
+  }
+
+  // 2. The pipeline for this rank's piece, updated once from its last stage.
+  dg::Pipeline pipeline;
+  if (reader)
+  {
+    pipeline.Build(reader->GetOutputPort(), opt.P);
+    watch(reader, "read", !reader->IsA("vtkDICOMImageReader"));
+  }
+  else
+    pipeline.Build(image, opt.P);
+  for (const auto& stage : pipeline.Stages)
+    watch(stage.Algorithm, stage.Name, false);
+  vtkAlgorithm* last = pipeline.Stages.back().Algorithm;
+  // Objects inside the stages (a .pvti's piece readers) report to VTK's
+  // output window, which no observer sees: collect it, so that a failure
+  // says one line (naming the first error) and a success passes the
+  // warnings on.
+  vtkSmartPointer<vtkOutputWindow> previousWindow = vtkOutputWindow::GetInstance();
+  vtkNew<vtkStringOutputWindow> collected;
+  vtkOutputWindow::SetInstance(collected);
+  const int updated = last->UpdatePiece(rank, size, 0);
+  vtkOutputWindow::SetInstance(previousWindow);
+  const std::string vtkText = collected->GetOutput();
+  if (errors->Failed || !updated)
+  {
+    std::string message = errors->Failed ? errors->Message : "the pipeline failed on this piece";
+    const std::string first = FirstVTKError(vtkText);
+    if (!first.empty() && message.find(first) == std::string::npos)
+      message += " (first error: " + first + ")";
+    return rankFail(message);
+  }
+  if (!vtkText.empty())
+    std::cerr << vtkText;
+  if (reader)
+  {
+    std::string error;
+    if (!dg::CheckImagePiece(reader, opt.Input, error))
+      return rankFail(error);
+  }
+  vtkPolyData* result = pipeline.Result();
+  vtkPolyData* features = pipeline.Features();
+  // Every piece is done before any file is made: a rank that failed has
+  // exited, and mpirun ends this one while it waits here, with nothing
+  // written.
+  procs.Barrier();
+
+  // 3. Files: this rank's pieces and (rank 0) the summaries, in a folder of
+  // their own until every rank has written, then moved into place.
+  const std::filesystem::path outDir(opt.OutputDir);
+  const std::filesystem::path partDir = outDir / ("." + prefix + ".parts");
+  std::vector<std::string> mine; // file names this rank moves into place
+  {
+    std::error_code ec;
+    std::filesystem::create_directories(partDir, ec);
+    // The folder is shared: rank 0 may not remove it before all made it.
+    if (!agreeOrFail(!ec, "cannot create '" + partDir.string() + "': " + ec.message()))
+      return 1;
+  }
+  const auto writeStart = Clock::now();
+  auto writePieces = [&](vtkPolyData* pd, const std::string& name) {
+    vtkSmartPointer<vtkXMLWriter> w = procs.PieceWriter(pd, (partDir / (name + ".pvtp")).string());
+    ConfigureXMLWriter(w, opt.Compression);
+    w->AddObserver(vtkCommand::ErrorEvent, errors);
+    w->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, errors);
+    mine.push_back(name + "_" + std::to_string(rank) + ".vtp");
+    if (root)
+      mine.push_back(name + ".pvtp");
+    // Collective (rank 0 learns which pieces hold data): a rank whose piece
+    // fails leaves the others waiting, so it exits at once (below) and
+    // mpirun ends them; the final names never hold a partial file.
+    return w->Write() == 1 && w->GetErrorCode() == vtkErrorCode::NoError && !errors->Failed;
+  };
+  auto writeFailure = [&](const std::string& name) {
+    return rankFail("cannot write " + (outDir / (name + ".pvtp")).string() +
+      (errors->Message.empty() ? "" : " (" + errors->Message + ")"));
+  };
+  if (!writePieces(result, prefix + "_surface"))
+    return writeFailure(prefix + "_surface");
+  if (!writePieces(features, prefix + "_features"))
+    return writeFailure(prefix + "_features");
+  const double writeTime = std::chrono::duration<double>(Clock::now() - writeStart).count();
+
+  // 4. The picture, on rank 0, from the gathered pieces: points, quads and
+  // the three normal fields travel (per surfel about one point, 24 bytes,
+  // a quad, 40, and three normals, 12 + 24 + 24: 125 bytes on rank 0, twice
+  // that while the received pieces are appended).
+  double renderTime = 0;
+  if (opt.Png)
+  {
+    const auto t0 = Clock::now();
+    vtkSmartPointer<vtkPolyData> whole = procs.GatherToRoot(result, { "Normals", "IINormals", "ATNormals" });
+    vtkSmartPointer<vtkPolyData> lines = procs.GatherToRoot(features, {});
+    if (root)
+    {
+      dg::RenderOptions ro;
+      ro.Width = opt.Width;
+      ro.Height = opt.Height;
+      ro.Panels = opt.Panels;
+      std::string error;
+      mine.push_back(prefix + ".png");
+      if (!dg::RenderPicture(whole, "IINormals", lines, ro, (partDir / (prefix + ".png")).string(), error))
+        return rankFail(error);
+    }
+    renderTime = std::chrono::duration<double>(Clock::now() - t0).count();
+  }
+
+  // 5. Every rank wrote: move the files into place.
+  const bool allWritten = procs.All(true);
+  bool moved = true;
+  long long surfacePieces = 0, featurePieces = 0;
+  for (const auto& name : mine)
+  {
+    const auto from = partDir / name;
+    std::error_code ec;
+    if (!std::filesystem::exists(from, ec))
+      continue; // an empty piece the writer left out of the summary
+    if (allWritten)
+    {
+      std::filesystem::rename(from, outDir / name, ec);
+      moved = moved && !ec;
+      if (name == prefix + "_surface_" + std::to_string(rank) + ".vtp")
+        ++surfacePieces;
+      if (name == prefix + "_features_" + std::to_string(rank) + ".vtp")
+        ++featurePieces;
+    }
+    else
+      std::filesystem::remove(from, ec);
+  }
+  surfacePieces = procs.Sum(surfacePieces);
+  featurePieces = procs.Sum(featurePieces);
+  const bool allMoved = agreeOrFail(moved || !allWritten,
+    "cannot rename the output files in '" + opt.OutputDir + "'");
+  if (root)
+  {
+    std::error_code ec;
+    std::filesystem::remove_all(partDir, ec);
+  }
+  if (!allWritten || !allMoved)
+    return 1;
+
+  // 6. The summary, from rank 0, with the counts of all pieces.
+  int whole[6] = { 0, -1, 0, -1, 0, -1 };
+  if (vtkInformation* info = pipeline.Surface->GetInputInformation(0, 0))
+    if (info->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+      info->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
+  const long long surfels = procs.Sum(OwnedCells(pipeline.Surface->GetOutput()));
+  const long long edges = procs.Sum(static_cast<long long>(features->GetNumberOfLines()));
+  const long long islands = procs.Sum(static_cast<long long>(
+    opt.P.MinimumComponentSize > 1 ? pipeline.Islands->GetNumberOfRemovedIslands() : 0));
+  const long long cavities = procs.Sum(static_cast<long long>(
+    opt.P.MinimumComponentSize > 1 ? pipeline.Islands->GetNumberOfFilledCavities() : 0));
+  const long long changed = procs.Sum(static_cast<long long>(
+    opt.P.MinimumComponentSize > 1 ? pipeline.Islands->GetNumberOfChangedVoxels() : 0));
+  const double memory = PeakMemoryMiB();
+  const double memoryMax = procs.Max(memory), memorySum = procs.Sum(memory);
+  const double total = std::chrono::duration<double>(Clock::now() - start).count();
+  if (!root)
+  {
+    procs.Finalize();
+    return 0;
+  }
+  std::vector<std::pair<std::string, double>> times;
+  bool readSeen = false;
+  for (const auto& t : clock->Times)
+    readSeen = readSeen || t.first == "read";
+  if (!readSeen)
+    times.emplace_back("read", readTime);
+  for (const auto& t : clock->Times)
+    times.push_back(t);
+  times.emplace_back("write", writeTime);
+  if (opt.Png)
+    times.emplace_back("gather + render", renderTime);
+  std::ostringstream stages;
+  stages << std::fixed;
+  stages.precision(3);
+  for (const auto& t : times)
+    stages << (&t != &times.front() ? ", " : "") << t.first << " " << t.second << " s";
+  std::cout << Program << ": " << (opt.Input.empty() ? "built-in shape" : opt.Input) << " "
+            << whole[1] - whole[0] + 1 << "x" << whole[3] - whole[2] + 1 << "x"
+            << whole[5] - whole[4] + 1 << ": " << surfels << " surfels, " << edges
+            << " feature edges (Ambrosio-Tortorelli, " << size << " processes)\n";
+  if (opt.P.MinimumComponentSize > 1)
+    std::cout << "  removed " << islands << " inside components and filled " << cavities
+              << " cavities smaller than " << opt.P.MinimumComponentSize << " voxels (" << changed
+              << " voxels)\n";
+  std::cout << std::fixed;
+  std::cout.precision(3);
+  std::cout << "  time (rank 0): " << stages.str() << " (total " << total << " s); peak memory "
+            << static_cast<long>(memoryMax) << " MiB per rank at most (rank 0 "
+            << static_cast<long>(memory) << " MiB, all ranks " << static_cast<long>(memorySum)
+            << " MiB)\n";
+  for (const auto& [name, pieces] : { std::make_pair(prefix + "_surface", surfacePieces),
+         std::make_pair(prefix + "_features", featurePieces) })
+    std::cout << "  wrote " << (outDir / (name + ".pvtp")).string() << " and " << pieces
+              << " non-empty piece" << (pieces == 1 ? "" : "s") << " " << name << "_R.vtp (R = rank)\n";
+  if (opt.Png)
+    std::cout << "  wrote " << (outDir / (prefix + ".png")).string() << "\n";
+  procs.Finalize();
+  return 0;
+}
 } // namespace
 
 int main(int argc, char* argv[])
@@ -420,6 +843,21 @@ int main(int argc, char* argv[])
   if (!std::getenv("VTK_SMP_BACKEND_IN_USE"))
   {
     vtkSMPTools::SetBackend("STDThread"); // Debian's ParaView VTK defaults to sequential
+  }
+  // Launched by mpirun with N > 1 processes: one piece per rank.
+  dg::Processes procs;
+  {
+    std::string error;
+    if (!procs.Initialize(&argc, &argv, error))
+    {
+      if (PrintsCommonMessages())
+        std::cerr << Program << ": " << error << "\n";
+      return 2;
+    }
+  }
+  if (procs.Distributed())
+  {
+    return RunPieces(opt, procs);
   }
   using Clock = std::chrono::steady_clock;
   std::vector<std::pair<std::string, double>> times;

@@ -1,0 +1,449 @@
+"""Volumes and comparisons shared by the MPI tests (Testing/MPI).
+
+Volumes: small (<= 64^3) ground-truth shapes as in Testing/Cxx/dgGroundTruth
+(rotated cube, cube ∩ sphere; noise k = 0.3 from the module's own
+vtkDigitalNoiseFilter), a clean cube whose sharp edges cross every piece
+boundary, a volume where one piece holds no inside voxel, and non-manifold
+voxel blocks (sharing only an edge, only a corner) placed across the piece
+boundaries. Piece boundaries come from the same split as the filters
+(dg::PieceExtent: vtkExtentTranslator, block mode, by points).
+
+Comparisons go by the contract's global ids: cell GlobalIds
+((k*Ny + j)*Nx + i)*6 + d, point GlobalIds from the pointel's corner index.
+"""
+import math
+import os
+
+import numpy as np
+from vtkmodules.util import numpy_support as ns
+from vtkmodules.vtkCommonCore import vtkUnsignedCharArray
+from vtkmodules.vtkCommonDataModel import vtkImageData
+from vtkmodules.vtkCommonExecutionModel import vtkExtentTranslator
+from vtkmodules.vtkIOXML import (vtkXMLImageDataWriter, vtkXMLPPolyDataReader,
+                                 vtkXMLPolyDataReader)
+
+# ---------------------------------------------------------------- pieces
+
+
+def piece_extent(whole, piece, pieces):
+    """The own voxel extent of a piece (dg::PieceExtent), None when empty."""
+    if pieces == 1:
+        return list(whole)
+    t = vtkExtentTranslator()
+    t.SetSplitModeToBlock()
+    out = [0, -1, 0, -1, 0, -1]
+    ok = t.PieceToExtentThreadSafe(piece, pieces, 0, list(whole), out, t.GetSplitMode(), 1)
+    if not ok or out[0] > out[1] or out[2] > out[3] or out[4] > out[5]:
+        return None
+    return out
+
+
+def boundaries(whole, pieces):
+    """{axis: sorted first voxel indices of the pieces that start inside the whole extent}."""
+    b = {0: set(), 1: set(), 2: set()}
+    for p in range(pieces):
+        e = piece_extent(whole, p, pieces)
+        if e is None:
+            continue
+        for a in range(3):
+            if e[2 * a] > whole[2 * a]:
+                b[a].add(e[2 * a])
+    return {a: sorted(v) for a, v in b.items()}
+
+
+# ---------------------------------------------------------------- shapes
+
+
+def rotation(ax, ay, az):
+    """R = Rz Ry Rx (degrees), as dgGroundTruth's MakeRotatedCube."""
+    ax, ay, az = (math.radians(a) for a in (ax, ay, az))
+    rx = np.array([[1, 0, 0], [0, math.cos(ax), -math.sin(ax)], [0, math.sin(ax), math.cos(ax)]])
+    ry = np.array([[math.cos(ay), 0, math.sin(ay)], [0, 1, 0], [-math.sin(ay), 0, math.cos(ay)]])
+    rz = np.array([[math.cos(az), -math.sin(az), 0], [math.sin(az), math.cos(az), 0], [0, 0, 1]])
+    return rz @ ry @ rx
+
+
+def grid(dims):
+    k, j, i = np.meshgrid(np.arange(dims[2]), np.arange(dims[1]), np.arange(dims[0]), indexing="ij")
+    return np.stack([i, j, k], axis=-1).astype(float)  # [k, j, i, xyz]
+
+
+def rotated_cube(dims, center, h, angles):
+    p = grid(dims) - np.asarray(center)
+    local = p @ rotation(*angles)  # R^T (p - c) for each row vector
+    return np.max(np.abs(local), axis=-1) <= h
+
+
+def cube_edges(center, h, angles):
+    r = rotation(*angles)
+    corners = {}
+    for sx in (-1, 1):
+        for sy in (-1, 1):
+            for sz in (-1, 1):
+                corners[(sx, sy, sz)] = r @ np.array([sx, sy, sz]) * h + np.asarray(center)
+    edges = []
+    for c, a in corners.items():
+        for axis in range(3):
+            if c[axis] < 0:
+                d = list(c)
+                d[axis] = 1
+                edges.append((a, corners[tuple(d)]))
+    return edges
+
+
+def cube_sphere(dims, center, h, r):
+    p = grid(dims) - np.asarray(center)
+    return (np.max(np.abs(p), axis=-1) <= h) & (np.linalg.norm(p, axis=-1) <= r)
+
+
+def ball(dims, center, r):
+    p = grid(dims) - np.asarray(center)
+    return np.linalg.norm(p, axis=-1) <= r
+
+
+def to_image(inside, dims):
+    image = vtkImageData()
+    image.SetDimensions(*dims)
+    a = ns.numpy_to_vtk(np.ascontiguousarray(inside.astype(np.uint8).ravel()), deep=1,
+                        array_type=vtkUnsignedCharArray().GetDataType())
+    a.SetName("Inside")
+    image.GetPointData().SetScalars(a)
+    return image
+
+
+def add_noise(image, k, seed):
+    from digitalgeometry import vtkDigitalNoiseFilter
+    f = vtkDigitalNoiseFilter()
+    f.SetInputData(image)
+    f.SetNoiseLevel(k)
+    f.SetSeed(seed)
+    f.Update()
+    out = vtkImageData()
+    out.DeepCopy(f.GetOutput())
+    return out
+
+
+def write_vti(image, path):
+    w = vtkXMLImageDataWriter()
+    w.SetInputData(image)
+    w.SetFileName(path)
+    w.SetDataModeToBinary()
+    if not w.Write():
+        raise RuntimeError("cannot write " + path)
+    return path
+
+
+CASES = ["rotated-cube-noisy", "cube-sphere-noisy", "edges-across", "empty-piece", "non-manifold"]
+
+
+def make_case(name, path, pieces=(2, 3)):
+    """Writes the case's volume to path (.vti); returns a one-line description."""
+    if name == "rotated-cube-noisy":
+        dims = (48, 48, 48)
+        inside = rotated_cube(dims, (23.6, 24.3, 23.8), 13.0, (20, 30, 10))
+        image = add_noise(to_image(inside, dims), 0.3, 1)
+        write_vti(image, path)
+        return "rotated cube h = 13 in 48^3, noise k = 0.3 (seed 1)"
+    if name == "cube-sphere-noisy":
+        dims = (48, 48, 48)
+        inside = cube_sphere(dims, (23.7, 24.2, 23.9), 14.0, 18.5)
+        image = add_noise(to_image(inside, dims), 0.3, 2)
+        write_vti(image, path)
+        return "cube h = 14 ∩ sphere r = 18.5 in 48^3, noise k = 0.3 (seed 2)"
+    if name == "edges-across":
+        dims = (44, 44, 44)
+        center, h, angles = (21.7, 22.2, 21.4), 14.0, (35, 25, 15)
+        whole = [0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1]
+        # Every piece boundary plane is crossed by a true sharp edge.
+        for n in pieces:
+            for axis, planes in boundaries(whole, n).items():
+                for b in planes:
+                    x = b - 0.5
+                    crossing = [e for e in cube_edges(center, h, angles)
+                                if (e[0][axis] - x) * (e[1][axis] - x) < 0]
+                    assert crossing, "no sharp edge crosses the plane %s = %g (%d pieces)" % (
+                        "xyz"[axis], x, n)
+        write_vti(to_image(rotated_cube(dims, center, h, angles), dims), path)
+        return "clean rotated cube h = 14 in 44^3, sharp edges across every piece boundary"
+    if name == "empty-piece":
+        dims = (24, 24, 48)
+        inside = ball(dims, (11.6, 12.2, 10.3), 7.5)
+        whole = [0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1]
+        flat = inside.transpose(2, 1, 0)  # [i, j, k]
+        for n in pieces:
+            empty = 0
+            for p in range(n):
+                e = piece_extent(whole, p, n)
+                if e is None or not flat[e[0]:e[1] + 1, e[2]:e[3] + 1, e[4]:e[5] + 1].any():
+                    empty += 1
+            assert empty >= 1, "no empty piece with %d pieces" % n
+        write_vti(to_image(inside, dims), path)
+        return "ball r = 7.5 in the low third of 24x24x48: the upper piece(s) hold no inside voxel"
+    if name == "non-manifold":
+        dims = (32, 32, 32)
+        whole = [0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1]
+        inside = np.zeros((dims[2], dims[1], dims[0]), dtype=bool)  # [k, j, i]
+
+        def box(axis, b, o, lo_a, p, q):
+            """voxel ranges [lo, hi) of a 3^3 block: lo_a along axis, p and q along the others."""
+            r = [None, None, None]
+            r[axis] = (lo_a, lo_a + 3)
+            r[o[0]] = (p, p + 3)
+            r[o[1]] = (q, q + 3)
+            return r
+
+        def free(r):
+            # the block and a one-voxel margin hold nothing yet
+            sl = tuple(slice(max(0, r[a][0] - 1), r[a][1] + 1) for a in (2, 1, 0))
+            return all(0 <= r[a][0] and r[a][1] <= dims[a] for a in range(3)) and not inside[sl].any()
+
+        def put(r):
+            inside[r[2][0]:r[2][1], r[1][0]:r[1][1], r[0][0]:r[0][1]] = True
+
+        # 3^3 blocks (27 voxels: the island filter keeps them) meeting along
+        # an edge only or at a corner only, the contact right on a piece
+        # boundary b (b - 1 is the last voxel of the lower piece).
+        def owner(n, r):
+            # the piece of n that owns every voxel of block r (None if shared)
+            for piece in range(n):
+                e = piece_extent(whole, piece, n)
+                if e and all(e[2 * a] <= r[a][0] and r[a][1] - 1 <= e[2 * a + 1] for a in range(3)):
+                    return piece
+            return None
+
+        planes = []
+        for n in pieces:
+            for axis, bs in boundaries(whole, n).items():
+                planes.extend((n, axis, b) for b in bs)
+        placed = 0
+        for n, axis, b in planes:
+            o = [a for a in range(3) if a != axis]
+            for kind in ("edge", "corner"):
+                done = False
+                for p in range(1, dims[o[0]] - 7):
+                    for q in range(1, dims[o[1]] - 7):
+                        a = box(axis, b, o, b - 3, p, q)
+                        c = box(axis, b, o, b, p + 3, q + (3 if kind == "corner" else 0))
+                        # the pair's own contact is allowed: test the two apart
+                        if free(a) and free(c) and None != owner(n, a) != owner(n, c) is not None:
+                            put(a)
+                            put(c)
+                            done = True
+                            break
+                    if done:
+                        break
+                assert done, "no room for the %s pair at %s = %d" % (kind, "xyz"[axis], b)
+                placed += 1
+        assert placed >= 2
+        write_vti(to_image(inside, dims), path)
+        return "3^3 voxel blocks touching along an edge only or at a corner only, across %d piece boundaries (2 and 3 pieces)" % len(planes)
+    raise ValueError("unknown case " + name)
+
+
+# ---------------------------------------------------------------- results
+
+
+def read_polydata(path):
+    r = vtkXMLPPolyDataReader() if path.endswith(".pvtp") else vtkXMLPolyDataReader()
+    r.SetFileName(path)
+    r.Update()
+    if r.GetErrorCode() != 0 or r.GetOutput() is None:
+        raise RuntimeError("cannot read " + path)
+    return r.GetOutput()
+
+
+def array(data, name):
+    a = data.GetArray(name)
+    return None if a is None else ns.vtk_to_numpy(a)
+
+
+class Result:
+    """A run's surface and feature lines, indexed by global ids."""
+
+    def __init__(self, surface, features, reference=False):
+        """surface, features: file names (.vtp or .pvtp) or vtkPolyData.
+        reference: a one-process run, which writes no GlobalIds (the filter
+        adds them to one piece only on request): the contract's ids are
+        computed from its InsideVoxel, SurfelDirection and point positions."""
+        self.surface = read_polydata(surface) if isinstance(surface, str) else surface
+        self.features = read_polydata(features) if isinstance(features, str) else features
+        s = self.surface
+        self.cell_ids = array(s.GetCellData(), "GlobalIds")
+        self.point_ids = array(s.GetPointData(), "GlobalIds")
+        self.derived = False
+        if reference and self.cell_ids is None and s.GetNumberOfCells() and \
+                s.GetCellData().GetArray("InsideVoxel") is not None:
+            whole = [int(x) for x in ns.vtk_to_numpy(s.GetFieldData().GetArray("ImageExtent"))]
+            self.cell_ids, self.point_ids = contract_ids(s, whole)
+            self.derived = True
+        self.ii = array(s.GetCellData(), "IINormals")
+        self.at = array(s.GetCellData(), "ATNormals")
+        self.v = array(s.GetPointData(), "ATFeatureIndicator")
+        self.ghosts = array(s.GetCellData(), "vtkGhostType")
+
+    def edges(self):
+        """Feature edges as sorted pairs of global point ids (a list, with repeats)."""
+        f = self.features
+        fid = array(f.GetPointData(), "GlobalIds")
+        if fid is None:
+            # by position: corners sit on exact grid positions in both files
+            pts = ns.vtk_to_numpy(self.surface.GetPoints().GetData()) if self.surface.GetNumberOfPoints() else np.zeros((0, 3))
+            where = {tuple(p): int(g) for p, g in zip(pts, self.point_ids)}
+            fp = ns.vtk_to_numpy(f.GetPoints().GetData()) if f.GetNumberOfPoints() else np.zeros((0, 3))
+            fid = np.array([where.get(tuple(p), -1) for p in fp], dtype=np.int64)
+        out = []
+        lines = f.GetLines()
+        conn = ns.vtk_to_numpy(lines.GetConnectivityArray()) if lines.GetNumberOfCells() else np.zeros(0, int)
+        offs = ns.vtk_to_numpy(lines.GetOffsetsArray()) if lines.GetNumberOfCells() else np.zeros(1, int)
+        for c in range(len(offs) - 1):
+            ids = conn[offs[c]:offs[c + 1]]
+            for a, b in zip(ids[:-1], ids[1:]):
+                ga, gb = int(fid[a]), int(fid[b])
+                out.append((min(ga, gb), max(ga, gb)))
+        return out
+
+
+class Checks:
+    def __init__(self):
+        self.failures, self.count = [], 0
+
+    def finish(self, root):
+        """Prints the tally; removes the test's folder when all passed (kept
+        for a look otherwise); returns the exit status."""
+        import shutil
+        print("%d checks, %d failed" % (self.count, len(self.failures)))
+        for f in self.failures:
+            print("FAILED: " + f)
+        if not self.failures:
+            shutil.rmtree(root, ignore_errors=True)
+        return 1 if self.failures else 0
+
+    def __call__(self, cond, what):
+        self.count += 1
+        print(("ok   " if cond else "FAIL ") + what, flush=True)
+        if not cond:
+            self.failures.append(what)
+        return cond
+
+
+def compare(ref, res, check, label, angle_limit, v_limit, assert_edges=True):
+    """Compares res with ref (Result) by global ids; prints the figures."""
+    if not check(res.cell_ids is not None and ref.cell_ids is not None,
+                 "%s: cell GlobalIds present (reference %s, run %s)"
+                 % (label, ref.cell_ids is not None, res.cell_ids is not None)):
+        return
+    check(res.ghosts is None or not np.any(res.ghosts), "%s: no ghost cells in the written surface" % label)
+    uniq = np.unique(res.cell_ids)
+    check(len(uniq) == len(res.cell_ids), "%s: cell GlobalIds unique (%d cells, %d duplicated)"
+          % (label, len(res.cell_ids), len(res.cell_ids) - len(uniq)))
+    same = np.array_equal(np.sort(ref.cell_ids), np.sort(res.cell_ids))
+    only_ref = np.setdiff1d(ref.cell_ids, res.cell_ids)
+    only_res = np.setdiff1d(res.cell_ids, ref.cell_ids)
+    check(same, "%s: same surfels as one process (%d; %d missing, %d extra)"
+          % (label, len(ref.cell_ids), len(only_ref), len(only_res)))
+    common, ir, it = np.intersect1d(ref.cell_ids, res.cell_ids, return_indices=True)
+    if ref.ii is not None and res.ii is not None and len(common):
+        d = np.max(np.abs(ref.ii[ir] - res.ii[it]))
+        check(d == 0.0, "%s: II normals identical (max component difference %.3g)" % (label, d))
+    else:
+        check(False, "%s: IINormals present" % label)
+    if ref.at is not None and res.at is not None and len(common):
+        cos = np.clip(np.sum(ref.at[ir] * res.at[it], axis=1)
+                      / (np.linalg.norm(ref.at[ir], axis=1) * np.linalg.norm(res.at[it], axis=1)), -1, 1)
+        ang = np.degrees(np.arccos(cos))
+        # arccos loses precision near 1: the chord gives small angles
+        chord = np.linalg.norm(ref.at[ir] / np.linalg.norm(ref.at[ir], axis=1)[:, None]
+                               - res.at[it] / np.linalg.norm(res.at[it], axis=1)[:, None], axis=1)
+        ang = np.where(ang < 1.0, np.degrees(2 * np.arcsin(np.clip(chord / 2, 0, 1))), ang)
+        check(ang.max() <= angle_limit, "%s: AT normals max angle %.3g deg (limit %g; mean %.3g)"
+              % (label, ang.max(), angle_limit, ang.mean()))
+    else:
+        check(False, "%s: ATNormals present" % label)
+    if ref.point_ids is not None and res.point_ids is not None and ref.v is not None and res.v is not None:
+        refv = dict(zip(ref.point_ids.tolist(), ref.v.tolist()))
+        missing = [g for g in res.point_ids.tolist() if g not in refv]
+        diffs = np.array([abs(v - refv[g]) for g, v in zip(res.point_ids.tolist(), res.v.tolist()) if g in refv])
+        dv = diffs.max() if len(diffs) else 0.0
+        check(not missing and dv <= v_limit, "%s: v max difference %.3g over %d point copies (limit %g; %d unknown points)"
+              % (label, dv, len(res.v), v_limit, len(missing)))
+        # the copies of a border point in several pieces agree
+        copies = {}
+        for g, v in zip(res.point_ids.tolist(), res.v.tolist()):
+            copies.setdefault(g, set()).add(v)
+        split = sum(1 for s in copies.values() if len(s) > 1)
+        check(split == 0, "%s: border points' copies carry the same v (%d points differ)" % (label, split))
+    else:
+        check(False, "%s: point GlobalIds and ATFeatureIndicator present" % label)
+    re_, te = ref.edges(), res.edges()
+    dup = len(te) - len(set(te))
+    rs, ts = set(re_), set(te)
+    diff = "%d edges, %d only in one process, %d only here, %d listed twice" % (
+        len(rs), len(rs - ts), len(ts - rs), dup)
+    if assert_edges:
+        check(rs == ts and dup == 0, "%s: same feature edges (%s)" % (label, diff))
+    else:
+        print("info %s: feature edges: %s" % (label, diff))
+    if rs != ts and ref.v is not None:
+        refv = dict(zip(ref.point_ids.tolist(), ref.v.tolist()))
+        near = [max(refv.get(a, -1), refv.get(b, -1)) for a, b in list((rs - ts) | (ts - rs))[:5]]
+        print("info %s: v at the ends of some differing edges (threshold 0.5): %s"
+              % (label, ", ".join("%.6f" % x for x in near)))
+
+
+def files_of(folder):
+    out = {}
+    for root, _, names in os.walk(folder):
+        for n in names:
+            p = os.path.join(root, n)
+            with open(p, "rb") as f:
+                out[os.path.relpath(p, folder)] = f.read()
+    return out
+
+
+def contract_ids(surface, whole):
+    """The contract's GlobalIds from the surface's own geometry: cells from
+    InsideVoxel and SurfelDirection, points from their corner positions
+    (origin and spacing from the field data)."""
+    nx, ny = whole[1] - whole[0] + 1, whole[3] - whole[2] + 1
+    voxel = array(surface.GetCellData(), "InsideVoxel").astype(np.int64)
+    d = array(surface.GetCellData(), "SurfelDirection").astype(np.int64)
+    i, j, k = (voxel[:, a] - whole[2 * a] for a in range(3))
+    cells = ((k * ny + j) * nx + i) * 6 + d
+    fd = surface.GetFieldData()
+    origin = ns.vtk_to_numpy(fd.GetArray("ImageOrigin"))
+    spacing = ns.vtk_to_numpy(fd.GetArray("ImageSpacing"))
+    pts = ns.vtk_to_numpy(surface.GetPoints().GetData())
+    c = np.rint((pts - origin) / spacing + 0.5).astype(np.int64) - np.array(whole[0::2])
+    points = (c[:, 2] * (ny + 1) + c[:, 1]) * (nx + 1) + c[:, 0]
+    return cells, points
+
+
+def write_pvti(image, folder, name, z_cuts):
+    """A .pvti of `image` in slabs along z (first voxel of each slab after the
+    first in z_cuts; as VTK's writers do, each slab also holds the next
+    one's first layer), one .vti per slab; returns (pvti path, slab paths)."""
+    from vtkmodules.vtkImagingCore import vtkExtractVOI
+    dims = image.GetDimensions()
+    bounds = [0] + list(z_cuts) + [dims[2]]
+    pieces = []
+    for s in range(len(bounds) - 1):
+        voi = vtkExtractVOI()
+        voi.SetInputData(image)
+        z1 = min(bounds[s + 1], dims[2] - 1)
+        voi.SetVOI(0, dims[0] - 1, 0, dims[1] - 1, bounds[s], z1)
+        voi.Update()
+        path = os.path.join(folder, "%s_%d.vti" % (name, s))
+        write_vti(voi.GetOutput(), path)
+        pieces.append((path, bounds[s], z1))
+    pvti = os.path.join(folder, name + ".pvti")
+    with open(pvti, "w") as f:
+        f.write('<?xml version="1.0"?>\n<VTKFile type="PImageData" version="0.1" byte_order="LittleEndian" '
+                'header_type="UInt32">\n  <PImageData WholeExtent="0 %d 0 %d 0 %d" GhostLevel="0" '
+                'Origin="0 0 0" Spacing="1 1 1">\n    <PPointData Scalars="Inside">\n'
+                '      <PDataArray type="UInt8" Name="Inside"/>\n    </PPointData>\n'
+                % (dims[0] - 1, dims[1] - 1, dims[2] - 1))
+        for path, z0, z1 in pieces:
+            f.write('    <Piece Extent="0 %d 0 %d %d %d" Source="%s"/>\n'
+                    % (dims[0] - 1, dims[1] - 1, z0, z1, os.path.basename(path)))
+        f.write("  </PImageData>\n</VTKFile>\n")
+    return pvti, [p[0] for p in pieces]

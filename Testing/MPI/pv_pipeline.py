@@ -1,0 +1,48 @@
+"""The MPI tests' pvbatch pipeline (run as mpirun -np N pvbatch --symmetric
+pv_pipeline.py PLUGIN INPUT.vti OUTPREFIX SOLVER_TOLERANCE): the plugin's
+filters Digital Surface -> II Normal Estimator -> Ambrosio-Tortorelli on
+every rank's piece, written with ParaView's parallel writer as
+OUTPREFIX_surface.pvtp and OUTPREFIX_features.pvtp (pieces in folders of
+those names).
+
+DG_MPI_BAD_RANK=r gives rank r a bad II radius (-1): that rank reports the
+filter's error in one line and exits 1 at once, so that mpirun ends the
+ranks that wait for it."""
+import os
+import sys
+
+from paraview.simple import *  # noqa: F401,F403
+from vtkmodules.vtkCommonCore import vtkCommand
+from vtkmodules.vtkParallelCore import vtkMultiProcessController
+from vtkmodules.util.misc import calldata_type
+from vtkmodules.util.vtkConstants import VTK_STRING
+
+plugin, volume_path, prefix, tolerance = sys.argv[1:5]
+controller = vtkMultiProcessController.GetGlobalController()
+rank = controller.GetLocalProcessId() if controller else 0
+size = controller.GetNumberOfProcesses() if controller else 1
+
+LoadPlugin(plugin, remote=False, ns=globals())
+volume = XMLImageDataReader(FileName=[volume_path])
+surface = DigitalSurface(Input=volume)
+ii = IINormalEstimator(Input=surface, Source=volume, Radius=4)
+if os.environ.get("DG_MPI_BAD_RANK", "") == str(rank):
+    ii.Radius = -1
+at = AmbrosioTortorelli(Input=ii, Alpha=0.05, Lambda=0.005, SolverTolerance=float(tolerance))
+
+
+@calldata_type(VTK_STRING)  # the observer receives the message
+def fail(obj, event, message=None):
+    text = (message or "error").strip().splitlines()[-1]
+    text = text.split("): ", 1)[-1]  # "vtkClass (0x...): message" -> "message"
+    sys.stderr.write("pv_pipeline: rank %d of %d: %s: %s\n" % (rank, size, obj.GetClassName(), text))
+    sys.stderr.flush()
+    os._exit(1)
+
+
+for proxy in (volume, surface, ii, at):
+    proxy.GetClientSideObject().AddObserver(vtkCommand.ErrorEvent, fail)
+
+at.UpdatePipeline()
+SaveData(prefix + "_surface.pvtp", proxy=OutputPort(at, 0), CompressorType="LZ4", DataMode="Binary")
+SaveData(prefix + "_features.pvtp", proxy=OutputPort(at, 1), CompressorType="LZ4", DataMode="Binary")
