@@ -61,7 +61,9 @@ def program_errors():
     if len(lines) != 1:
         print("--- stderr\n" + p.stderr)
     check(p.returncode != 0, "corrupt slab: the run exits non-zero (%d)" % p.returncode)
-    check(dt < 10, "corrupt slab: within 10 s (%.1f s)" % dt)
+    # A hang would run into the 120 s timeout; the bound leaves room for a
+    # loaded machine (the time is what the issue asks to report).
+    check(dt < 60, "corrupt slab: stops, no hang (%.1f s)" % dt)
     check(len(lines) == 1 and lines[0].startswith("piecewise-normals: rank 1 of 2: "),
           "corrupt slab: one message, from rank 1 (%d lines)" % len(lines))
     finals = [n for n in os.listdir(out)] if os.path.isdir(out) else []
@@ -149,7 +151,7 @@ def pvbatch_errors():
         print("info bad radius on rank %d of %d: exit %d in %.1f s; %s" % (bad, n, p.returncode, dt, lines))
         check(p.returncode != 0, "bad radius on rank %d of %d: exit non-zero (%d)" % (bad, n, p.returncode))
         # pvbatch's own start on 3 ranks over 2 cores takes 3-8 s of it
-        check(dt < 15, "bad radius on rank %d of %d: within 15 s (%.1f s)" % (bad, n, dt))
+        check(dt < 60, "bad radius on rank %d of %d: stops, no hang (%.1f s)" % (bad, n, dt))
         check(len(lines) == 1 and lines[0].startswith("pv_pipeline: rank %d of %d: " % (bad, n))
               and "Radius" in lines[0],
               "bad radius on rank %d of %d: one message, from that rank (%d lines)" % (bad, n, len(lines)))
