@@ -73,30 +73,6 @@ private:
   bool Have = false;
 };
 
-// atan2 to about 1e-5 rad (a minimax polynomial on [0, 1] and the octant
-// symmetries): it only places bin boundaries, and it is the same function on
-// every thread.
-inline double FastAtan2(double y, double x)
-{
-  const double ax = std::abs(x), ay = std::abs(y);
-  const double mx = std::max(ax, ay), mn = std::min(ax, ay);
-  if (mx == 0)
-  {
-    return 0.0;
-  }
-  const double a = mn / mx, s = a * a;
-  double r = ((-0.0464964749 * s + 0.15931422) * s - 0.327622764) * s * a + a;
-  if (ay > ax)
-  {
-    r = 0.5 * Pi - r;
-  }
-  if (x < 0)
-  {
-    r = Pi - r;
-  }
-  return y < 0 ? -r : r;
-}
-
 // A uniformly random rotation (Shoemake 1992), row-major.
 void RandomRotation(Generator& g, double R[9])
 {
@@ -330,32 +306,6 @@ void HoughAccumulator::Build(int resolution)
     }
     this->Guess[q] = b;
   }
-}
-
-int HoughAccumulator::Bin(double x, double y, double z) const
-{
-  const int K = this->K;
-  const int cells = static_cast<int>(this->Guess.size());
-  int q = static_cast<int>(z * cells);
-  q = std::min(cells - 1, std::max(0, q));
-  int b = this->Guess[q];
-  // Band b holds BandTop[b + 1] < z <= BandTop[b] (the last band down to 0).
-  while (b > 0 && z > this->BandTop[b])
-  {
-    --b;
-  }
-  while (b + 1 < K && z <= this->BandTop[b + 1])
-  {
-    ++b;
-  }
-  const int n = this->BandBins[b];
-  if (n == 1)
-  {
-    return this->BandFirst[b];
-  }
-  const double t = (FastAtan2(y, x) + Pi) * (n / (2 * Pi));
-  const int c = std::min(n - 1, std::max(0, static_cast<int>(t)));
-  return this->BandFirst[b] + c;
 }
 
 // ---------------------------------------------------------------------------

@@ -21,6 +21,8 @@
 #ifndef dgRHT_h
 #define dgRHT_h
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -111,6 +113,60 @@ std::uint64_t SurfelSeed(std::uint64_t seed, std::int64_t i, std::int64_t j, std
 void EstimateRHT(const std::int32_t* points, int numberOfPoints, const double reference[3],
   const RHTParameters& parameters, std::uint64_t surfelSeed, const HoughAccumulator& accumulator,
   RHTWorkspace& work, RHTEstimate& out);
+
+constexpr double RHTPi = 3.14159265358979323846;
+
+// atan2 to about 1e-5 rad (a minimax polynomial on [0, 1] and the octant
+// symmetries): it only places bin boundaries, and it is the same function on
+// every thread.
+inline double RHTFastAtan2(double y, double x)
+{
+  const double ax = std::abs(x), ay = std::abs(y);
+  const double mx = std::max(ax, ay), mn = std::min(ax, ay);
+  if (mx == 0)
+  {
+    return 0.0;
+  }
+  const double a = mn / mx, s = a * a;
+  double r = ((-0.0464964749 * s + 0.15931422) * s - 0.327622764) * s * a + a;
+  if (ay > ax)
+  {
+    r = 0.5 * RHTPi - r;
+  }
+  if (x < 0)
+  {
+    r = RHTPi - r;
+  }
+  return y < 0 ? -r : r;
+}
+
+
+inline int HoughAccumulator::Bin(double x, double y, double z) const
+{
+  const int K = this->K;
+  const int cells = static_cast<int>(this->Guess.size());
+  int q = static_cast<int>(z * cells);
+  q = std::min(cells - 1, std::max(0, q));
+  int b = this->Guess[q];
+  // Band b holds BandTop[b + 1] < z <= BandTop[b] (the last band down to 0).
+  while (b > 0 && z > this->BandTop[b])
+  {
+    --b;
+  }
+  while (b + 1 < K && z <= this->BandTop[b + 1])
+  {
+    ++b;
+  }
+  const int n = this->BandBins[b];
+  if (n == 1)
+  {
+    return this->BandFirst[b];
+  }
+  const double t = (RHTFastAtan2(y, x) + RHTPi) * (n / (2 * RHTPi));
+  const int c = std::min(n - 1, std::max(0, static_cast<int>(t)));
+  return this->BandFirst[b] + c;
+}
+
 
 } // namespace dg
 
