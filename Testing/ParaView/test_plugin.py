@@ -256,7 +256,7 @@ Delete(sharp)
 # RHT normals through the plugin (paper's defaults), against the class.
 check("RHTNormalEstimator" in globals(), "RHT Normal Estimator available")
 rht = RHTNormalEstimator(Input=surface, Source=reader)
-check(rht.Radius[0] == 6 and rht.NumberOfTrials[0] == 648 and rht.NumberOfAccumulators[0] == 5,
+check(rht.Radius == 6 and rht.NumberOfTrials == 648 and rht.NumberOfAccumulators == 5,
       "RHT defaults: r = 6, 648 trials, 5 accumulators")
 rht.NumberOfTrials = 100
 rht.UpdatePipeline()
