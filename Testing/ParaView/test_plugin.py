@@ -253,6 +253,26 @@ check(0 < n_sharp < n_lines and n_sharp == vsharp.GetOutput(1).GetNumberOfLines(
 check(sharp_lines.GetCellData().GetArray("FeatureAngle") is not None, "FeatureAngle on the lines")
 Delete(sharp)
 
+# RHT normals through the plugin (paper's defaults), against the class.
+check("RHTNormalEstimator" in globals(), "RHT Normal Estimator available")
+rht = RHTNormalEstimator(Input=surface, Source=reader)
+check(rht.Radius == 6 and rht.NumberOfTrials == 648 and rht.NumberOfAccumulators == 5,
+      "RHT defaults: r = 6, 648 trials, 5 accumulators")
+rht.NumberOfTrials = 100
+rht.UpdatePipeline()
+from digitalgeometry import vtkRHTNormalEstimator  # noqa: E402
+vrht = vtkRHTNormalEstimator()
+vrht.SetInputConnection(vf.GetOutputPort())
+vrht.SetSourceConnection(vr.GetOutputPort())
+vrht.SetNumberOfTrials(100)
+vrht.Update()
+ref_r = vrht.GetOutput().GetCellData().GetArray("RHTNormals")
+got_r = servermanager.Fetch(rht).GetCellData().GetArray("RHTNormals")
+check(got_r is not None and got_r.GetNumberOfTuples() == n_plugin
+      and all(got_r.GetValue(v) == ref_r.GetValue(v) for v in range(got_r.GetNumberOfValues())),
+      "RHTNormals on every surfel, the class's values")
+Delete(rht)
+
 # AT straight on Digital Surface: the trivial normals, chosen by name.
 at_trivial = AmbrosioTortorelli(Input=surface)
 at_trivial.Field = ["CELLS", "Normals"]
