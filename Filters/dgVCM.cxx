@@ -413,33 +413,54 @@ bool VoronoiCovarianceMeasure::Compute(
       slotOf[Z - A] = Z % Q;
     }
     vtkSMPTools::For(0, nx, [&](std::int64_t b, std::int64_t e) {
-      std::vector<Parabola> in;
+      std::vector<Parabola> in(B - A + 1);
+      std::vector<std::int64_t> planes; // slots with finite values at this x, by Z
+      std::vector<std::int32_t> pz, plo, phi;
       Envelope env;
       std::int64_t localPoints = 0;
       for (std::int64_t x = b; x < e; ++x)
       {
-        for (std::int64_t y = 0; y < ny; ++y)
+        planes.clear();
+        pz.clear();
+        plo.clear();
+        phi.clear();
+        std::int32_t ylo = std::numeric_limits<std::int32_t>::max(), yhi = -1;
+        for (std::int64_t Z = A; Z <= B; ++Z)
         {
-          in.clear();
-          for (std::int64_t Z = A; Z <= B; ++Z)
+          const std::int64_t slot = slotOf[Z - A];
+          const std::int32_t l = yLo[slot * nx + x], h = yHi[slot * nx + x];
+          if (l <= h)
           {
-            const std::int64_t slot = slotOf[Z - A];
-            if (y < yLo[slot * nx + x] || y > yHi[slot * nx + x])
+            planes.push_back(slot * planeSize + x * ny);
+            pz.push_back(static_cast<std::int32_t>(Z));
+            plo.push_back(l);
+            phi.push_back(h);
+            ylo = std::min(ylo, l);
+            yhi = std::max(yhi, h);
+          }
+        }
+        const std::size_t np = planes.size();
+        for (std::int64_t y = ylo; y <= yhi; ++y)
+        {
+          int m = 0;
+          for (std::size_t q = 0; q < np; ++q)
+          {
+            if (y < plo[q] || y > phi[q])
             {
               continue;
             }
-            const std::size_t at = slot * planeSize + x * ny + y;
+            const std::size_t at = planes[q] + y;
             if (val[at] != Inf)
             {
-              in.push_back({ Z, val[at], ids[at] });
+              in[m++] = { pz[q], val[at], ids[at] };
             }
           }
-          if (in.empty())
+          if (m == 0)
           {
             continue;
           }
-          const std::int64_t za = std::max(z0, FloorDiv2(in.front().P - reach + 1));
-          const std::int64_t zb = std::min(z1 - 1, FloorDiv2(in.back().P + reach));
+          const std::int64_t za = std::max(z0, FloorDiv2(in[0].P - reach + 1));
+          const std::int64_t zb = std::min(z1 - 1, FloorDiv2(in[m - 1].P + reach));
           if (za > zb)
           {
             continue;
@@ -456,7 +477,7 @@ bool VoronoiCovarianceMeasure::Compute(
               }
             }
           };
-          env.Run(in.data(), static_cast<int>(in.size()), 2 * za, zb - za + 1,
+          env.Run(in.data(), m, 2 * za, zb - za + 1,
             [&](std::int64_t t, std::int64_t v, std::int32_t id) {
               if (v > cap)
               {
@@ -503,16 +524,28 @@ void VoronoiCovarianceMeasure::Convolve(
   const std::int64_t bound = DoubledRadiusBound(r);
   std::int64_t c[3];
   DoubledCentre(voxel, direction, c);
-  const int w = static_cast<int>(std::ceil(r)) + 1;
+  // A site within r of c has its inside voxel within r + 1 of the
+  // surfel's: rows (j, k) of that disc, i within the chord.
+  const double w2 = (r + 1) * (r + 1);
+  const int w = static_cast<int>(std::floor(r + 1));
   for (int k = std::max(0, voxel[2] - w); k <= std::min(this->NK - 1, voxel[2] + w); ++k)
   {
-    for (int j = std::max(0, voxel[1] - w); j <= std::min(this->NJ - 1, voxel[1] + w); ++j)
+    const int dk = k - voxel[2];
+    const int wj = static_cast<int>(std::floor(std::sqrt(std::max(0.0, w2 - dk * dk))));
+    for (int j = std::max(0, voxel[1] - wj); j <= std::min(this->NJ - 1, voxel[1] + wj); ++j)
     {
+      const int dj = j - voxel[1];
+      const int wi =
+        static_cast<int>(std::floor(std::sqrt(std::max(0.0, w2 - dk * dk - dj * dj))));
       const std::size_t row = static_cast<std::size_t>(k) * this->NJ + j;
       std::int64_t s = this->RowFirst[row];
       const std::int64_t e = this->RowFirst[row + 1];
-      // Sites of a row are sorted by i: skip to voxel[0] - w.
-      const int ilo = voxel[0] - w, ihi = voxel[0] + w;
+      if (s == e)
+      {
+        continue;
+      }
+      // Sites of a row are sorted by i: skip to voxel[0] - wi.
+      const int ilo = voxel[0] - wi, ihi = voxel[0] + wi;
       std::int64_t count = e - s;
       while (count > 0)
       {

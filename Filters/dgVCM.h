@@ -24,7 +24,7 @@
 // along Z (results at the lattice points). Only values <= 4 R^2 are kept
 // (a farther site never matters). The Z pass runs on slabs of lattice
 // planes, the X and Y passes fill a ring buffer of doubled planes, each
-// computed once: memory is (4 R + 2 T + 3) planes of nx * ny * 8 bytes (T
+// computed once: memory is (4 R + 2 T + 3) planes of nx * ny * 8 bytes (T = 16
 // lattice planes per slab), not the whole grid.
 #ifndef dgVCM_h
 #define dgVCM_h
@@ -91,7 +91,7 @@ public:
   std::int64_t NumberOfOffsetPoints() const { return this->OffsetPoints; }
   /// Peak bytes of the distance transform's buffers in the last Compute.
   std::size_t BufferBytes() const { return this->Bytes; }
-  /// Lattice planes per slab (T); default 8. For tests and benchmarks.
+  /// Lattice planes per slab (T); default 16. For tests and benchmarks.
   void SetSlabPlanes(int t) { this->SlabPlanes = t < 1 ? 1 : t; }
 
 private:
@@ -103,7 +103,7 @@ private:
   int J0 = 0, K0 = 0, NJ = 0, NK = 0;
   std::int64_t OffsetPoints = 0;
   std::size_t Bytes = 0;
-  int SlabPlanes = 8;
+  int SlabPlanes = 16;
 };
 
 /// Reference for tests: for every lattice point within R of a site, scans

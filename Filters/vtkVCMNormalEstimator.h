@@ -40,7 +40,7 @@
  *
  * Cost (dgVCM.h): an exact separable Euclidean distance transform with a
  * nearest-site map over the lattice box of the surfels grown by R, in slabs:
- * memory (4 R + 2 T + 3) planes of nx * ny * 8 bytes (T = 8), the sites (16
+ * memory (4 R + 2 T + 3) planes of nx * ny * 8 bytes (T = 16), the sites (16
  * bytes and 48 bytes of measure each) and the image as runs (as II). Time
  * linear in the box's volume plus the offset's. Octa-flower 512^3, R = 10,
  * r = 4, 2 cores: see docs/vcm.md (Benchmarks/BenchVCM).
