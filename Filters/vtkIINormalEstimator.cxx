@@ -4,6 +4,7 @@
 #include "dgIntegralInvariant.h"
 #include "dgVoxelSelection.h"
 #include "dgPieces.h"
+#include "dgSurfaceEstimator.h"
 #include "vtkDigitalSurfaceFilter.h"
 
 #include <vtkCellData.h>
@@ -31,47 +32,6 @@
 
 vtkStandardNewMacro(vtkIINormalEstimator);
 
-namespace
-{
-bool Close(double a, double b)
-{
-  return std::abs(a - b) <= 1e-9 * std::max({ 1.0, std::abs(a), std::abs(b) });
-}
-
-// The surface's per-surfel arrays as plain int buffers (the surface filter
-// writes vtkIntArray / vtkUnsignedCharArray; a file reader may give others).
-bool ReadSurfels(vtkDataArray* voxels, vtkDataArray* directions, vtkIdType n,
-  std::vector<int>& vox, std::vector<int>& dirs)
-{
-  if (!voxels || !directions || voxels->GetNumberOfComponents() != 3 ||
-    directions->GetNumberOfComponents() != 1 || voxels->GetNumberOfTuples() != n ||
-    directions->GetNumberOfTuples() != n)
-  {
-    return false;
-  }
-  vox.resize(3 * n);
-  dirs.resize(n);
-  auto* intVoxels = vtkIntArray::FastDownCast(voxels);
-  auto* ucharDirections = vtkUnsignedCharArray::FastDownCast(directions);
-  if (intVoxels && ucharDirections)
-  {
-    std::copy(intVoxels->GetPointer(0), intVoxels->GetPointer(0) + 3 * n, vox.data());
-    std::copy(ucharDirections->GetPointer(0), ucharDirections->GetPointer(0) + n, dirs.data());
-    return true;
-  }
-  // Other array types (e.g. read from a file): serial, as the generic
-  // accessors of some arrays are not thread-safe.
-  for (vtkIdType s = 0; s < n; ++s)
-  {
-    for (int a = 0; a < 3; ++a)
-    {
-      vox[3 * s + a] = static_cast<int>(voxels->GetComponent(s, a));
-    }
-    dirs[s] = static_cast<int>(directions->GetComponent(s, 0));
-  }
-  return true;
-}
-} // namespace
 
 vtkIINormalEstimator::~vtkIINormalEstimator() = default;
 
@@ -144,55 +104,10 @@ int vtkIINormalEstimator::RequestUpdateExtent(
     return 0;
   }
   vtkInformation* sourceInfo = inputVector[1]->GetInformationObject(0);
-  if (!sourceInfo || !sourceInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  if (sourceInfo)
   {
-    return 1;
+    dg::RequestEstimatorExtents(inputVector, outputVector, this->BallReach(sourceInfo));
   }
-  int whole[6];
-  sourceInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  const int pieces = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
-    ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
-    : 1;
-  if (pieces <= 1)
-  {
-    // One piece: the balls reach anywhere in the image, ask for all of it
-    // (as vtkProbeFilter does for its source). Without this, an extent
-    // requested for an earlier source would crop a new one.
-    sourceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), whole, 6);
-    sourceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
-    sourceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
-    return 1;
-  }
-  // A piece: its own voxels grown by the ghost levels (the surfels it gets)
-  // and by the balls' reach. The surface filter is told the same reach
-  // (IMAGE_GHOST_LEVELS), so that both ask the image's source for one extent.
-  const int piece = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
-  const int ghosts =
-    std::max(0, outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS()));
-  const int layers = ghosts + this->BallReach(sourceInfo);
-  vtkInformation* surfaceInfo = inputVector[0]->GetInformationObject(0);
-  if (surfaceInfo)
-  {
-    surfaceInfo->Set(vtkDigitalSurfaceFilter::IMAGE_GHOST_LEVELS(), layers);
-  }
-  int own[6], need[6];
-  dg::PieceExtent(whole, piece, pieces, own);
-  dg::GrowExtent(own, layers, whole, need);
-  if (dg::ExtentEmpty(need))
-  {
-    const int none[6] = { 0, -1, 0, -1, 0, -1 };
-    sourceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), none, 6);
-  }
-  else
-  {
-    sourceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), need, 6);
-  }
-  // The extent says it all: piece keys left from the superclass would have
-  // the executive cut the source's extent again.
-  sourceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
-  sourceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
-  sourceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
   return 1;
 }
 
@@ -246,73 +161,26 @@ int vtkIINormalEstimator::ExecutePiece(
   }
 
   // 1. The surface must come from this image.
-  vtkFieldData* fd = surface->GetFieldData();
-  vtkDataArray* extArray = fd ? fd->GetArray("ImageExtent") : nullptr;
-  vtkDataArray* originArray = fd ? fd->GetArray("ImageOrigin") : nullptr;
-  vtkDataArray* spacingArray = fd ? fd->GetArray("ImageSpacing") : nullptr;
-  const vtkIdType nSurfels = surface->GetNumberOfCells();
-  std::vector<int> vox, dirs;
-  if (!extArray || !originArray || !spacingArray || extArray->GetNumberOfValues() != 6 ||
-    originArray->GetNumberOfValues() != 3 || spacingArray->GetNumberOfValues() != 3 ||
-    !ReadSurfels(surface->GetCellData()->GetArray("InsideVoxel"),
-      surface->GetCellData()->GetArray("SurfelDirection"), nSurfels, vox, dirs))
+  dg::SurfaceOnImage on;
   {
-    vtkErrorMacro("Input 0 is not a digital surface: it needs the cell arrays 'InsideVoxel' (3 "
-                  "components) and 'SurfelDirection' and the field data 'ImageExtent', "
-                  "'ImageOrigin', 'ImageSpacing' written by vtkDigitalSurfaceFilter.");
-    return 0;
-  }
-  int ext[6], whole[6];
-  image->GetExtent(ext);
-  std::copy(ext, ext + 6, whole);
-  {
-    vtkInformation* sourceInfo = inputVector[1]->GetInformationObject(0);
-    if (sourceInfo && sourceInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+    std::string error;
+    if (!dg::ReadSurfaceOnImage(
+          surface, image, inputVector[1]->GetInformationObject(0), on, error))
     {
-      sourceInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
-    }
-  }
-  double origin[3], spacing[3];
-  image->GetOrigin(origin);
-  image->GetSpacing(spacing);
-  {
-    bool same = true;
-    for (int a = 0; a < 6; ++a)
-    {
-      same &= static_cast<int>(extArray->GetComponent(a, 0)) == whole[a];
-    }
-    for (int a = 0; a < 3; ++a)
-    {
-      same &= Close(originArray->GetComponent(a, 0), origin[a]);
-      same &= Close(spacingArray->GetComponent(a, 0), spacing[a]);
-    }
-    if (!same)
-    {
-      auto e = [&](int a) { return static_cast<int>(extArray->GetComponent(a, 0)); };
-      vtkErrorMacro("The source image does not match the surface: image extent "
-        << whole[0] << ".." << whole[1] << ", " << whole[2] << ".." << whole[3] << ", " << whole[4] << ".."
-        << whole[5] << ", origin (" << origin[0] << ", " << origin[1] << ", " << origin[2]
-        << "), spacing (" << spacing[0] << ", " << spacing[1] << ", " << spacing[2]
-        << "); the surface was extracted from extent " << e(0) << ".." << e(1) << ", " << e(2)
-        << ".." << e(3) << ", " << e(4) << ".." << e(5) << ", origin ("
-        << originArray->GetComponent(0, 0) << ", " << originArray->GetComponent(1, 0) << ", "
-        << originArray->GetComponent(2, 0) << "), spacing (" << spacingArray->GetComponent(0, 0)
-        << ", " << spacingArray->GetComponent(1, 0) << ", " << spacingArray->GetComponent(2, 0)
-        << ").");
+      vtkErrorMacro(<< error);
       return 0;
     }
   }
-  const int dims[3] = { ext[1] - ext[0] + 1, ext[3] - ext[2] + 1, ext[5] - ext[4] + 1 };
-  // An empty piece of a distributed surface gets an empty image: normal.
-  if ((dims[0] <= 0 || dims[1] <= 0 || dims[2] <= 0) && nSurfels > 0)
-  {
-    vtkErrorMacro("The source image is empty.");
-    return 0;
-  }
+  const vtkIdType nSurfels = surface->GetNumberOfCells();
+  const std::vector<int>& vox = on.Voxels;
+  const std::vector<int>& dirs = on.Directions;
+  const int* ext = on.Extent;
+  const int* whole = on.Whole;
+  const int* dims = on.Dims;
+  const double* spacing = on.Spacing;
 
   // 2. Radius in voxels.
-  const bool isotropic = Close(std::abs(spacing[0]), std::abs(spacing[1])) &&
-    Close(std::abs(spacing[0]), std::abs(spacing[2]));
+  const bool isotropic = on.Isotropic;
   double radius = this->Radius;
   if (this->RadiusUnits == WORLD)
   {
@@ -341,20 +209,9 @@ int vtkIINormalEstimator::ExecutePiece(
   }
   // A piece's image must hold every ball: a cropped ball would be a wrong
   // normal without a word.
-  if (nSurfels > 0 && !dg::ExtentContains(ext, whole))
   {
-    int box[6] = { vox[0], vox[0], vox[1], vox[1], vox[2], vox[2] };
-    for (vtkIdType c = 1; c < nSurfels; ++c)
-    {
-      for (int a = 0; a < 3; ++a)
-      {
-        box[2 * a] = std::min(box[2 * a], vox[3 * c + a]);
-        box[2 * a + 1] = std::max(box[2 * a + 1], vox[3 * c + a]);
-      }
-    }
     int need[6];
-    dg::GrowExtent(box, static_cast<int>(std::ceil(radius)) + 1, whole, need);
-    if (!dg::ExtentContains(ext, need))
+    if (!dg::ImageHoldsReach(on, static_cast<int>(std::ceil(radius)) + 1, need))
     {
       vtkErrorMacro("The source image holds the voxels "
         << ext[0] << ".." << ext[1] << ", " << ext[2] << ".." << ext[3] << ", " << ext[4] << ".."
@@ -514,19 +371,12 @@ int vtkIINormalEstimator::ExecutePiece(
   }
   if (badSurfel >= 0)
   {
-    vtkErrorMacro("Surfel " << badSurfel.load()
-                            << " has an inside voxel outside the image extent or a direction "
-                               "outside 0..5: the surface does not belong to this image.");
+    vtkErrorMacro(<< dg::BadSurfelMessage(badSurfel.load()));
     return 0;
   }
   if (notSelected >= 0)
   {
-    const vtkIdType s = notSelected;
-    vtkErrorMacro("Surfel " << s << " (voxel " << vox[3 * s] << ", " << vox[3 * s + 1] << ", "
-                            << vox[3 * s + 2] << ", direction " << dirs[s]
-                            << ") does not separate an inside voxel from an outside one under "
-                               "this filter's selection: set the same selection (SelectionMode, "
-                               "thresholds, Label, array) as on vtkDigitalSurfaceFilter.");
+    vtkErrorMacro(<< dg::NotSelectedMessage(on, notSelected.load()));
     return 0;
   }
   this->NumberOfTrivialFallbacks = fallbacks;

@@ -15,6 +15,7 @@
 #include "vtkSharpFeaturesFilter.h"
 #include "vtkDigitalSurfaceFilter.h"
 #include "vtkIINormalEstimator.h"
+#include "vtkVCMNormalEstimator.h"
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
@@ -153,6 +154,23 @@ Outcome II(vtkImageData* source, double radius, vtkImageData* surfaceOf = nullpt
   }
   ii->SetRadius(radius);
   return Run(ii);
+}
+
+Outcome VCM(vtkImageData* source, double offsetRadius, double convolutionRadius,
+  vtkImageData* surfaceOf = nullptr)
+{
+  auto image = Block(12);
+  vtkNew<vtkDigitalSurfaceFilter> surface;
+  surface->SetInputData(surfaceOf ? surfaceOf : image.Get());
+  vtkNew<vtkVCMNormalEstimator> vcm;
+  vcm->SetInputConnection(surface->GetOutputPort());
+  if (source)
+  {
+    vcm->SetSourceData(source);
+  }
+  vcm->SetOffsetRadius(offsetRadius);
+  vcm->SetConvolutionRadius(convolutionRadius);
+  return Run(vcm);
 }
 
 // A digital surface of a small rotated cube with its trivial normals.
@@ -458,6 +476,24 @@ const Row Rows[] = {
     {
       auto image = Block(12);
       Outcome o = II(image, 3, image);
+      o.ExpectedCells = 6 * 10 * 10;
+      return o;
+    } },
+  // vtkVCMNormalEstimator
+  { "VCMWithoutImage", Expect::Error, "SetSource", [] { return VCM(nullptr, 5, 2); } },
+  { "VCMImageDoesNotMatch", Expect::Error, "does not match",
+    [] { return VCM(Block(14), 5, 2); } },
+  { "VCMOffsetRadiusZero", Expect::Error, "positive",
+    [] { auto image = Block(12); return VCM(image, 0, 2, image); } },
+  { "VCMConvolutionRadiusNegative", Expect::Error, "positive",
+    [] { auto image = Block(12); return VCM(image, 5, -1, image); } },
+  { "VCMOffsetBelowConvolution", Expect::Error, "must not exceed OffsetRadius",
+    [] { auto image = Block(12); return VCM(image, 2, 3, image); } },
+  { "VCMGood", Expect::Result, "",
+    []
+    {
+      auto image = Block(12);
+      Outcome o = VCM(image, 5, 2, image);
       o.ExpectedCells = 6 * 10 * 10;
       return o;
     } },

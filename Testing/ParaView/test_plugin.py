@@ -118,6 +118,33 @@ check(fd is not None and fd.GetValue(0) == vi.GetNumberOfRemovedIslands(),
 Delete(cleaned)
 Delete(islands)
 
+# VCM normals through the plugin, against the class: defaults and arrays.
+check("VCMNormalEstimator" in globals(), "VCM filter available")
+vcm = VCMNormalEstimator(Input=surface, Source=reader)
+check(vcm.OffsetRadius == 10 and vcm.ConvolutionRadius == 4,
+      "VCM defaults R = 10, r = 4 (%s, %s)" % (vcm.OffsetRadius, vcm.ConvolutionRadius))
+vcm.OffsetRadius = 5
+vcm.ConvolutionRadius = 2
+vcm.ComputeFeatureScore = 1
+vcm.UpdatePipeline()
+vcm_out = servermanager.Fetch(vcm)
+from digitalgeometry import vtkVCMNormalEstimator  # noqa: E402
+vvcm = vtkVCMNormalEstimator()
+vvcm.SetInputConnection(vf.GetOutputPort())
+vvcm.SetSourceConnection(vr.GetOutputPort())
+vvcm.SetOffsetRadius(5)
+vvcm.SetConvolutionRadius(2)
+vvcm.Update()
+got_n = vcm_out.GetCellData().GetNormals()
+ref_n = vvcm.GetOutput().GetCellData().GetNormals()
+check(got_n is not None and got_n.GetName() == "VCMNormals"
+      and vcm_out.GetCellData().GetArray("VCMFeatureScore") is not None
+      and got_n.GetNumberOfTuples() == ref_n.GetNumberOfTuples()
+      and all(got_n.GetComponent(c, a) == ref_n.GetComponent(c, a)
+              for c in range(0, ref_n.GetNumberOfTuples(), 7) for a in range(3)),
+      "plugin VCMNormals (active) and VCMFeatureScore, equal to the class's")
+Delete(vcm)
+
 # II normals and Ambrosio-Tortorelli through the plugin, against the classes.
 check("IINormalEstimator" in globals() and "AmbrosioTortorelli" in globals(),
       "II and AT filters available")
