@@ -71,33 +71,63 @@ void Pipeline::Build(vtkImageData* image, vtkAlgorithmOutput* source, const Pipe
   this->Surface->SetLabel(s.Label);
   this->Stages.push_back({ "digital surface", this->Surface });
 
-  this->II->SetInputConnection(this->Surface->GetOutputPort());
-  if (volume)
-    this->II->SetSourceConnection(volume);
-  else if (source)
-    this->II->SetSourceConnection(source);
+  // The estimators read the same image and count the same voxels as inside
+  // as the surface did.
+  auto connectEstimator = [&](auto* e) {
+    e->SetInputConnection(this->Surface->GetOutputPort());
+    if (volume)
+      e->SetSourceConnection(volume);
+    else if (source)
+      e->SetSourceConnection(source);
+    else
+      e->SetSourceData(image);
+    e->SetSelectionMode(this->Surface->GetSelectionMode());
+    e->SetLowerThreshold(s.Lower);
+    e->SetUpperThreshold(s.Upper);
+    e->SetLabel(s.Label);
+  };
+  vtkAlgorithm* estimator = this->II;
+  if (s.Estimator == "vcm")
+  {
+    connectEstimator(this->VCM.Get());
+    this->VCM->SetOffsetRadius(s.VCMOffsetRadius);
+    this->VCM->SetConvolutionRadius(s.VCMConvolutionRadius);
+    estimator = this->VCM;
+    this->Stages.push_back({ "VCM normals", this->VCM });
+  }
+  else if (s.Estimator == "rht")
+  {
+    connectEstimator(this->RHT.Get());
+    this->RHT->SetRadius(s.RHTRadius);
+    this->RHT->SetNumberOfTrials(s.RHTTrials);
+    this->RHT->SetSeed(s.Seed);
+    estimator = this->RHT;
+    this->Stages.push_back({ "RHT normals", this->RHT });
+  }
   else
-    this->II->SetSourceData(image);
-  this->II->SetRadius(s.Radius);
-  this->II->SetComputeCurvatures(s.Curvatures);
-  // The estimator must count the same voxels as inside as the surface did.
-  this->II->SetSelectionMode(this->Surface->GetSelectionMode());
-  this->II->SetLowerThreshold(s.Lower);
-  this->II->SetUpperThreshold(s.Upper);
-  this->II->SetLabel(s.Label);
-  this->Stages.push_back({ "II normals", this->II });
+  {
+    connectEstimator(this->II.Get());
+    this->II->SetRadius(s.Radius);
+    this->II->SetComputeCurvatures(s.Curvatures);
+    this->Stages.push_back({ "II normals", this->II });
+  }
 
-  this->AT->SetInputConnection(this->II->GetOutputPort());
-  this->AT->SetAlpha(s.Alpha);
-  this->AT->SetLambda(s.Lambda);
-  this->AT->SetEpsilonStart(s.EpsStart);
-  this->AT->SetEpsilonEnd(s.EpsEnd);
-  this->AT->SetEpsilonRatio(s.EpsRatio);
-  this->AT->SetMaximumIterations(s.Iterations);
-  this->AT->SetTolerance(s.Tolerance);
-  this->AT->SetFeatureThreshold(s.FeatureThreshold);
-  this->AT->SetLinearSolver(s.Solver);
-  this->AT->SetSolverTolerance(s.SolverTolerance);
+  // Both AT passes take the same parameters.
+  auto configureAT = [&](vtkAmbrosioTortorelliFilter* a) {
+    a->SetAlpha(s.Alpha);
+    a->SetLambda(s.Lambda);
+    a->SetEpsilonStart(s.EpsStart);
+    a->SetEpsilonEnd(s.EpsEnd);
+    a->SetEpsilonRatio(s.EpsRatio);
+    a->SetMaximumIterations(s.Iterations);
+    a->SetTolerance(s.Tolerance);
+    a->SetFeatureThreshold(s.FeatureThreshold);
+    a->SetLinearSolver(s.Solver);
+    a->SetSolverTolerance(s.SolverTolerance);
+  };
+  // AT reads the active cell normals: the estimator's.
+  this->AT->SetInputConnection(estimator->GetOutputPort());
+  configureAT(this->AT);
   this->Stages.push_back({ "Ambrosio-Tortorelli", this->AT });
 
   if (s.Sharpen)
@@ -111,24 +141,21 @@ void Pipeline::Build(vtkImageData* image, vtkAlgorithmOutput* source, const Pipe
     this->AT2->SetInputConnection(this->Sharp->GetOutputPort());
     this->AT2->SetInputArrayToProcess(
       0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "SharpNormals");
-    {
-      vtkAmbrosioTortorelliFilter* a = this->AT2;
-      a->SetAlpha(s.Alpha);
-      a->SetLambda(s.Lambda);
-      a->SetEpsilonStart(s.EpsStart);
-      a->SetEpsilonEnd(s.EpsEnd);
-      a->SetEpsilonRatio(s.EpsRatio);
-      a->SetMaximumIterations(s.Iterations);
-      a->SetTolerance(s.Tolerance);
-      a->SetFeatureThreshold(s.FeatureThreshold);
-      a->SetLinearSolver(s.Solver);
-      a->SetSolverTolerance(s.SolverTolerance);
-    }
+    configureAT(this->AT2);
     this->Stages.push_back({ "Ambrosio-Tortorelli 2", this->AT2 });
     this->Sharp2->SetInputConnection(this->AT2->GetOutputPort());
     this->Sharp2->SetFeatureThreshold(s.FeatureThreshold);
     this->Stages.push_back({ "sharp features 2", this->Sharp2 });
   }
+}
+
+const char* Pipeline::InputNormalsName() const
+{
+  if (this->Settings.Estimator == "vcm")
+    return "VCMNormals";
+  if (this->Settings.Estimator == "rht")
+    return "RHTNormals";
+  return "IINormals";
 }
 
 vtkPolyData* Pipeline::Result()

@@ -1,7 +1,8 @@
 // The program's pipeline and its defaults, in one place so that the tests
 // run exactly what piecewise-normals runs:
 //   volume -> [noise] -> islands and cavities removed -> digital surface ->
-//   II normals -> Ambrosio-Tortorelli -> sharp features (one line per edge)
+//   II (or VCM, RHT) normals -> Ambrosio-Tortorelli -> sharp features (one
+//   line per edge)
 // Build() only connects the stages; the caller updates them (the program one
 // stage at a time, for its progress bar and timings).
 #ifndef dgPipeline_h
@@ -12,6 +13,8 @@
 #include "vtkDigitalNoiseFilter.h"
 #include "vtkDigitalSurfaceFilter.h"
 #include "vtkIINormalEstimator.h"
+#include "vtkRHTNormalEstimator.h"
+#include "vtkVCMNormalEstimator.h"
 #include "vtkSharpFeaturesFilter.h"
 
 #include <vtkImageData.h>
@@ -35,9 +38,17 @@ struct PipelineSettings
   // Inside components and cavities smaller than this many voxels are
   // removed before the surface is built (docs/islands.md); 0 = keep all.
   int MinimumComponentSize = 8;
+  // The input normals: "ii" (integral invariant, default), "vcm" (Voronoi
+  // covariance measure) or "rht" (randomized Hough transform), MATH.md
+  // sections 6, 9, 10; each with the paper's parameters.
+  std::string Estimator = "ii";
   // Integral invariant.
   double Radius = 4;
   bool Curvatures = false;
+  // VCM offset and convolution radii; RHT radius and trials.
+  double VCMOffsetRadius = 10, VCMConvolutionRadius = 4;
+  double RHTRadius = 6;
+  int RHTTrials = 648;
   // Ambrosio-Tortorelli. Alpha is the paper's Figure 5 value; Lambda is half
   // the paper's 0.01: the sharp-features stage removes AT's extra lines, and
   // a generous AT closes the bands along shallow edges
@@ -82,6 +93,8 @@ public:
   /// The voxels the surface was built from (after noise and islands; a
   /// piece of them when the pipeline ran for a piece).
   vtkImageData* Volume();
+  /// Name of the input normal field ("IINormals", "VCMNormals", "RHTNormals").
+  const char* InputNormalsName() const;
   /// Name of the final normal field ("SharpNormals" or "ATNormals").
   const char* NormalsName() const { return this->Settings.Sharpen ? "SharpNormals" : "ATNormals"; }
   /// The AT stage whose lines the sharp stage read (the second one if any).
@@ -91,6 +104,8 @@ public:
   vtkNew<vtkDigitalIslandFilter> Islands;
   vtkNew<vtkDigitalSurfaceFilter> Surface;
   vtkNew<vtkIINormalEstimator> II;
+  vtkNew<vtkVCMNormalEstimator> VCM;
+  vtkNew<vtkRHTNormalEstimator> RHT;
   vtkNew<vtkAmbrosioTortorelliFilter> AT;
   vtkNew<vtkSharpFeaturesFilter> Sharp;
   vtkNew<vtkAmbrosioTortorelliFilter> AT2;

@@ -85,9 +85,16 @@ Before the surface
   --min-component N      drop inside components and fill cavities smaller than
                          N voxels (default 8: the paper's noise leaves specks of
                          1-7 voxels; 0 keeps everything)
-Integral-invariant normals
-  --radius R             ball radius in voxels (default 4)
-  --curvatures           also output mean, Gaussian and principal curvatures
+Input normals
+  --estimator E          ii (default: integral invariant), vcm (Voronoi
+                         covariance measure) or rht (randomized Hough transform);
+                         AT regularises the chosen one
+  --radius R             II ball radius in voxels (default 4)
+  --curvatures           II: also output mean, Gaussian and principal curvatures
+  --vcm-radii R r        VCM offset and convolution radii (default 10 4, the paper's)
+  --rht-radius r         RHT neighbourhood radius (default 6, the paper's)
+  --rht-trials N         RHT triplets per surfel (default 648, the paper's; --seed
+                         seeds them)
 Ambrosio-Tortorelli (lengths in voxels: the metric is the identity)
   --alpha A              data attachment weight (default 0.05, the paper's Fig. 5;
                          larger = closer to the input)
@@ -126,7 +133,7 @@ Outputs (in --output-dir, named PREFIX_*; PREFIX defaults to the input's name)
   -h, --help             this help
 
 Writes PREFIX_surface.vtp (cell data: SharpNormals (active), FeatureRegion,
-ATNormals, IINormals, trivial Normals; point data: v = ATFeatureIndicator),
+ATNormals, IINormals (VCMNormals, RHTNormals with --estimator), trivial Normals; point data: v = ATFeatureIndicator),
 PREFIX_features.vtp (the feature lines, with FeatureAngle in degrees; with
 --plain: AT's feature edges, with v) and PREFIX.png. Exit status 0 on success, 1 on bad input, 2 on bad options.
 
@@ -235,6 +242,26 @@ Options ParseOptions(int argc, char* argv[])
       o.P.SecondPass = true;
     else if (arg == "--radius")
       o.P.Radius = number();
+    else if (arg == "--estimator")
+    {
+      o.P.Estimator = value();
+      if (o.P.Estimator != "ii" && o.P.Estimator != "vcm" && o.P.Estimator != "rht")
+        OptionError("--estimator expects ii, vcm or rht");
+    }
+    else if (arg == "--vcm-radii")
+    {
+      o.P.VCMOffsetRadius = number();
+      o.P.VCMConvolutionRadius = number();
+    }
+    else if (arg == "--rht-radius")
+      o.P.RHTRadius = number();
+    else if (arg == "--rht-trials")
+    {
+      const double n = number();
+      if (n < 1 || n > 1e6 || n != std::floor(n))
+        OptionError("--rht-trials expects an integer in [1, 1000000]");
+      o.P.RHTTrials = static_cast<int>(n);
+    }
     else if (arg == "--curvatures")
       o.P.Curvatures = true;
     else if (arg == "--alpha")
@@ -307,6 +334,11 @@ Options ParseOptions(int argc, char* argv[])
     OptionError("--noise must be in [0, 1]");
   if (!(o.P.Radius > 0))
     OptionError("--radius must be > 0");
+  if (!(o.P.VCMConvolutionRadius > 0) || !(o.P.VCMOffsetRadius >= o.P.VCMConvolutionRadius) ||
+    !std::isfinite(o.P.VCMOffsetRadius))
+    OptionError("--vcm-radii R r needs 0 < r <= R");
+  if (!(o.P.RHTRadius > 0) || !std::isfinite(o.P.RHTRadius))
+    OptionError("--rht-radius must be > 0");
   if (!(o.P.Alpha > 0))
     OptionError("--alpha must be > 0");
   if (!(o.P.Lambda > 0))
@@ -725,7 +757,7 @@ int RunPieces(Options opt, dg::Processes& procs)
   if (opt.Png)
   {
     const auto t0 = Clock::now();
-    vtkSmartPointer<vtkPolyData> whole = procs.GatherToRoot(result, { "Normals", "IINormals", "ATNormals" });
+    vtkSmartPointer<vtkPolyData> whole = procs.GatherToRoot(result, { "Normals", pipeline.InputNormalsName(), "ATNormals" });
     vtkSmartPointer<vtkPolyData> lines = procs.GatherToRoot(features, {});
     if (root)
     {
@@ -735,7 +767,7 @@ int RunPieces(Options opt, dg::Processes& procs)
       ro.Panels = opt.Panels;
       std::string error;
       mine.push_back(prefix + ".png");
-      if (!dg::RenderPicture(whole, "IINormals", lines, ro, (partDir / (prefix + ".png")).string(), error))
+      if (!dg::RenderPicture(whole, pipeline.InputNormalsName(), lines, ro, (partDir / (prefix + ".png")).string(), error))
         return rankFail(error);
     }
     renderTime = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -982,7 +1014,7 @@ int main(int argc, char* argv[])
     ro.Panels = opt.Panels;
     std::string error;
     const std::string png = files.Temporary(base + ".png");
-    if (!dg::RenderPicture(result, "IINormals", features, ro, png, error))
+    if (!dg::RenderPicture(result, pipeline.InputNormalsName(), features, ro, png, error))
       return Fail(error);
     lap("render");
   }
