@@ -29,7 +29,7 @@ if [ -f "$GEN/vtkDigitalGeometryModule.h" ]; then
     "$DG_ROOT/Testing/Fuzz/fuzz_filters.cxx" "${SOURCES[@]}" \
     -L/usr/lib/$(gcc -print-multiarch) -lvtkCommonCore-pv5.11 -lvtkCommonDataModel-pv5.11 \
     -lvtkCommonExecutionModel-pv5.11 -lvtkCommonMath-pv5.11 -lvtkCommonSystem-pv5.11 \
-    -lvtkCommonMisc-pv5.11 -lvtksys-pv5.11 -lz -o "$OUT/fuzz_filters"
+    -lvtkCommonMisc-pv5.11 -lvtksys-pv5.11 -lvtkParallelCore-pv5.11 -lz -o "$OUT/fuzz_filters"
 fi
 status=0
 run() {

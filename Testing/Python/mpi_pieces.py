@@ -2,7 +2,7 @@
 updates piece `rank` of N of reader -> islands -> surface -> II -> AT (plain
 VTK classes through the Python wrapping, no plugin) and rank 0 compares the
 union of the pieces with a one-process run of the same pipeline, by global
-ids: the same surfels, bitwise the same II normals, AT normals within 0.01
+ids: the same surfels, bitwise the same II, VCM and RHT normals, AT normals within 0.01
 degree and v within 1e-5 (at SolverTolerance 1e-8, the same on both sides),
 the same feature edges; the N-rank result is bitwise reproducible; a rank
 that fails makes every rank stop (no hang).
@@ -109,7 +109,24 @@ def pipeline(tol):
     at = dg.vtkAmbrosioTortorelliFilter()
     at.SetInputConnection(ii.GetOutputPort())
     at.SetSolverTolerance(tol)
-    return at, (r, isl, s, ii)
+    # The other two estimators on the same surface (compared bitwise).
+    vcm = dg.vtkVCMNormalEstimator()
+    vcm.SetInputConnection(s.GetOutputPort())
+    vcm.SetSourceConnection(isl.GetOutputPort())
+    vcm.SetOffsetRadius(6)
+    vcm.SetConvolutionRadius(3)
+    rht = dg.vtkRHTNormalEstimator()
+    rht.SetInputConnection(s.GetOutputPort())
+    rht.SetSourceConnection(isl.GetOutputPort())
+    rht.SetRadius(4)
+    rht.SetNumberOfTrials(100)
+    return at, (r, isl, s, ii, vcm, rht)
+
+
+def estimator_normals(est, name):
+    o = est.GetOutput()
+    return dict(cid=vtk_to_numpy(o.GetCellData().GetArray("GlobalIds")),
+                n=vtk_to_numpy(o.GetCellData().GetArray(name)))
 
 
 def arrays(at):
@@ -146,6 +163,10 @@ mine = arrays(at)
 print("rank %d: %d surfels, %d feature edges" % (rank, len(mine["cid"]), len(mine["edges"])), flush=True)
 ctrl.Barrier()
 dist = gather(mine)
+estimates = {}
+for k, name in ((4, "VCMNormals"), (5, "RHTNormals")):
+    keep[k].UpdatePiece(rank, N, 0)
+    estimates[name] = gather(estimator_normals(keep[k], name))
 # Determinism: the same N-rank solve again, from scratch.
 at.Modified()
 at.UpdatePiece(rank, N, 0)
@@ -165,6 +186,14 @@ if rank == 0:
     order = {c: i for i, c in enumerate(ref["cid"])}
     idx = np.array([order[c] for c in dist["cid"]])
     check(np.array_equal(dist["ii"], ref["ii"][idx]), "II normals bitwise equal")
+    for k, name in ((4, "VCMNormals"), (5, "RHTNormals")):
+        keep1[k].Update()
+        one_e = estimator_normals(keep1[k], name)
+        e = estimates[name]
+        pos = {c: i for i, c in enumerate(one_e["cid"])}
+        same_set = len(e["cid"]) == len(one_e["cid"]) and set(e["cid"]) == set(one_e["cid"])
+        check(same_set and np.array_equal(e["n"], one_e["n"][[pos[c] for c in e["cid"]]]),
+              "%s bitwise equal to one process" % name)
     cosang = np.clip(np.abs(np.sum(dist["at"] * ref["at"][idx], axis=1)), 0, 1)
     maxang = float(np.degrees(np.arccos(cosang)).max())
     check(maxang <= 0.01, "AT normals within 0.01 degree (max %.2e)" % maxang)
