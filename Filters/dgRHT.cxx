@@ -309,6 +309,54 @@ void HoughAccumulator::Build(int resolution)
 }
 
 // ---------------------------------------------------------------------------
+void HoughTables::Build(int resolution, int accumulators, std::uint64_t seed)
+{
+  this->Accumulator.Build(resolution);
+  this->A = std::max(1, accumulators);
+  this->P = std::max(MinimumPool, this->A);
+  const int A = this->P, G = CellsPerSide;
+  // The rotations from the seed alone (a stream apart from the surfels').
+  Generator g(Mix(seed ^ 0x5851F42D4C957F2Dull));
+  this->Rotations.resize(9 * static_cast<std::size_t>(A));
+  for (int a = 0; a < A; ++a)
+  {
+    RandomRotation(g, this->Rotations.data() + 9 * a);
+  }
+  const std::size_t cells = 3 * static_cast<std::size_t>(G) * G;
+  this->Tables.resize(cells * A);
+  for (int a = 0; a < A; ++a)
+  {
+    const double* R = this->Rotation(a);
+    std::int16_t* table = this->Tables.data() + cells * a;
+    for (int face = 0; face < 3; ++face)
+      for (int iv = 0; iv < G; ++iv)
+        for (int iu = 0; iu < G; ++iu)
+        {
+          // The cell's centre on the face m = 1 (u, v in -1..1).
+          const double u = (iu + 0.5) * 2.0 / G - 1, v = (iv + 0.5) * 2.0 / G - 1;
+          double p[3];
+          p[face] = 1;
+          p[(face + 1) % 3] = u;
+          p[(face + 2) % 3] = v;
+          const double l = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+          double x = (R[0] * p[0] + R[1] * p[1] + R[2] * p[2]) / l;
+          double y = (R[3] * p[0] + R[4] * p[1] + R[5] * p[2]) / l;
+          double z = (R[6] * p[0] + R[7] * p[1] + R[8] * p[2]) / l;
+          const bool folded = z < 0;
+          if (folded)
+          {
+            x = -x;
+            y = -y;
+            z = -z;
+          }
+          const int bin = this->Accumulator.Bin(x, y, z);
+          table[(face * G + iv) * G + iu] =
+            static_cast<std::int16_t>(folded ? -(bin + 1) : bin + 1);
+        }
+  }
+}
+
+// ---------------------------------------------------------------------------
 std::uint64_t SurfelSeed(std::uint64_t seed, std::int64_t i, std::int64_t j, std::int64_t k, int d)
 {
   std::uint64_t h = Mix(seed + 0x9E3779B97F4A7C15ull);
@@ -319,36 +367,40 @@ std::uint64_t SurfelSeed(std::uint64_t seed, std::int64_t i, std::int64_t j, std
 }
 
 void EstimateRHT(const std::int32_t* points, int numberOfPoints, const double reference[3],
-  const RHTParameters& parameters, std::uint64_t surfelSeed, const HoughAccumulator& accumulator,
+  const RHTParameters& parameters, std::uint64_t surfelSeed, const HoughTables& tables,
   RHTWorkspace& work, RHTEstimate& out)
 {
   const int n = numberOfPoints;
   const int T = std::max(1, parameters.Trials);
-  const int A = std::max(1, parameters.Accumulators);
+  const int A = tables.NumberOfAccumulators();
   if (n < 3)
   {
     Fallback(reference, n, out);
     return;
   }
   Generator g(surfelSeed);
-  // The accumulators' rotations first, then the triplets.
-  double rotations[9 * 64];
-  std::vector<double> moreRotations;
-  double* R = rotations;
-  if (A > 64)
+  // The accumulators' rotations: A distinct ones of the pool (a partial
+  // Fisher-Yates shuffle), then the triplets.
+  const int P = tables.PoolSize();
+  work.Pool.resize(static_cast<std::size_t>(P));
+  int* pool = work.Pool.data();
+  for (int q = 0; q < P; ++q)
   {
-    moreRotations.resize(9 * static_cast<std::size_t>(A));
-    R = moreRotations.data();
+    pool[q] = q;
   }
   for (int a = 0; a < A; ++a)
   {
-    RandomRotation(g, R + 9 * a);
+    std::swap(pool[a], pool[a + static_cast<int>(g.Below(static_cast<std::uint32_t>(P - a)))]);
   }
 
   // 1. T valid triplets (at most 10 T draws), each a unit normal flipped
   // into the reference's hemisphere.
   work.Normals.resize(3 * static_cast<std::size_t>(T));
+  work.Cells.resize(static_cast<std::size_t>(T));
+  work.Flips.resize(static_cast<std::size_t>(T));
   double* normals = work.Normals.data();
+  std::int32_t* cells = work.Cells.data();
+  std::int8_t* flips = work.Flips.data();
   int valid = 0;
   const std::int64_t maxDraws = 10 * static_cast<std::int64_t>(T);
   const std::uint32_t un = static_cast<std::uint32_t>(n);
@@ -381,6 +433,9 @@ void EstimateRHT(const std::int32_t* points, int numberOfPoints, const double re
     m[0] = v[0] / len;
     m[1] = v[1] / len;
     m[2] = v[2] / len;
+    int flip;
+    cells[valid] = HoughTables::Cell(m[0], m[1], m[2], flip);
+    flips[valid] = static_cast<std::int8_t>(flip);
     ++valid;
   }
   if (valid == 0)
@@ -389,34 +444,23 @@ void EstimateRHT(const std::int32_t* points, int numberOfPoints, const double re
     return;
   }
 
-  // 2. The votes: each accumulator sees the normals through its rotation,
-  // folded onto its upper hemisphere (n and -n are one plane).
-  const int bins = accumulator.NumberOfBins();
+  // 2. The votes: each accumulator's table gives the bin of a cell and the
+  // sign that folds the cell's flipped direction (n and -n are one plane).
+  const int bins = tables.NumberOfBins();
   work.Counts.assign(static_cast<std::size_t>(bins), 0);
   work.Votes.resize(static_cast<std::size_t>(valid));
   double total[3] = { 0, 0, 0 };
   for (int a = 0; a < A; ++a)
   {
-    const double* Ra = R + 9 * a;
+    const std::int16_t* table = tables.Table(pool[a]);
     std::int32_t* counts = work.Counts.data();
     std::int16_t* votes = work.Votes.data();
     std::fill(counts, counts + bins, 0);
     for (int t = 0; t < valid; ++t)
     {
-      const double* m = normals + 3 * t;
-      double x = Ra[0] * m[0] + Ra[1] * m[1] + Ra[2] * m[2];
-      double y = Ra[3] * m[0] + Ra[4] * m[1] + Ra[5] * m[2];
-      double z = Ra[6] * m[0] + Ra[7] * m[1] + Ra[8] * m[2];
-      const bool folded = z < 0;
-      if (folded)
-      {
-        x = -x;
-        y = -y;
-        z = -z;
-      }
-      const int bin = accumulator.Bin(x, y, z);
-      ++counts[bin];
-      votes[t] = static_cast<std::int16_t>(folded ? -(bin + 1) : bin + 1);
+      const std::int16_t e = table[cells[t]];
+      ++counts[(e < 0 ? -e : e) - 1];
+      votes[t] = e;
     }
     // The winning bin (ties: the lowest bin), then the mean of its normals
     // with the signs the fold gave them.
@@ -434,7 +478,7 @@ void EstimateRHT(const std::int32_t* points, int numberOfPoints, const double re
       const int v = votes[t];
       if (v == best + 1 || v == -(best + 1))
       {
-        const double s = v > 0 ? 1.0 : -1.0;
+        const double s = (v > 0) == (flips[t] > 0) ? 1.0 : -1.0;
         const double* m = normals + 3 * t;
         sum[0] += s * m[0];
         sum[1] += s * m[1];

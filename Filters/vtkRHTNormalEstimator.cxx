@@ -179,8 +179,10 @@ int vtkRHTNormalEstimator::ExecutePiece(
     surfels.Build(mask.data(), dims, dims[0], 0);
   }
   kernel.SetRadius(radius);
-  dg::HoughAccumulator accumulator;
-  accumulator.Build(this->AccumulatorResolution);
+  // The accumulators' rotations and look-up tables, shared by all surfels.
+  dg::HoughTables tables;
+  tables.Build(this->AccumulatorResolution, this->NumberOfAccumulators,
+    static_cast<std::uint64_t>(this->Seed));
   dg::RHTParameters parameters;
   parameters.Radius = radius;
   parameters.Trials = this->NumberOfTrials;
@@ -238,7 +240,7 @@ int vtkRHTNormalEstimator::ExecutePiece(
       dg::RHTEstimate est;
       dg::EstimateRHT(ws.Points.data(), static_cast<int>(ws.Points.size() / 3), ref, parameters,
         dg::SurfelSeed(parameters.Seed, vox[3 * s], vox[3 * s + 1], vox[3 * s + 2], d),
-        accumulator, ws, est);
+        tables, ws, est);
       localFallbacks += est.Fallback;
       dg::NormalToWorld(Minv, est.Normal, nrm + 3 * s);
     }
