@@ -327,7 +327,7 @@ void HoughTables::Build(int resolution, int accumulators, std::uint64_t seed)
   for (int a = 0; a < A; ++a)
   {
     const double* R = this->Rotation(a);
-    std::int16_t* table = this->Tables.data() + cells * a;
+    std::uint16_t* table = this->Tables.data() + cells * a;
     for (int face = 0; face < 3; ++face)
       for (int iv = 0; iv < G; ++iv)
         for (int iu = 0; iu < G; ++iu)
@@ -350,8 +350,7 @@ void HoughTables::Build(int resolution, int accumulators, std::uint64_t seed)
             z = -z;
           }
           const int bin = this->Accumulator.Bin(x, y, z);
-          table[(face * G + iv) * G + iu] =
-            static_cast<std::int16_t>(folded ? -(bin + 1) : bin + 1);
+          table[(face * G + iv) * G + iu] = static_cast<std::uint16_t>(2 * bin + (folded ? 1 : 0));
         }
   }
 }
@@ -400,7 +399,7 @@ void EstimateRHT(const std::int32_t* points, int numberOfPoints, const double re
   work.Flips.resize(static_cast<std::size_t>(T));
   double* normals = work.Normals.data();
   std::int32_t* cells = work.Cells.data();
-  std::int8_t* flips = work.Flips.data();
+  std::uint8_t* flips = work.Flips.data();
   int valid = 0;
   const std::int64_t maxDraws = 10 * static_cast<std::int64_t>(T);
   const std::uint32_t un = static_cast<std::uint32_t>(n);
@@ -424,18 +423,19 @@ void EstimateRHT(const std::int32_t* points, int numberOfPoints, const double re
     }
     const double v[3] = { static_cast<double>(cr[0]), static_cast<double>(cr[1]),
       static_cast<double>(cr[2]) };
-    double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    if (v[0] * reference[0] + v[1] * reference[1] + v[2] * reference[2] < 0)
-    {
-      len = -len;
-    }
-    double* m = normals + 3 * valid;
-    m[0] = v[0] / len;
-    m[1] = v[1] / len;
-    m[2] = v[2] / len;
+    // The cell from the cross product itself (its direction is the
+    // normal's, up to the sign), apart from the square root's latency.
     int flip;
-    cells[valid] = HoughTables::Cell(m[0], m[1], m[2], flip);
-    flips[valid] = static_cast<std::int8_t>(flip);
+    cells[valid] = HoughTables::Cell(v[0], v[1], v[2], flip);
+    // Into the reference's hemisphere, without a branch (the sign is a coin
+    // toss).
+    const double dot = v[0] * reference[0] + v[1] * reference[1] + v[2] * reference[2];
+    const double inv = std::copysign(1.0 / std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), dot);
+    double* m = normals + 3 * valid;
+    m[0] = v[0] * inv;
+    m[1] = v[1] * inv;
+    m[2] = v[2] * inv;
+    flips[valid] = static_cast<std::uint8_t>((flip < 0) != std::signbit(dot));
     ++valid;
   }
   if (valid == 0)
@@ -444,30 +444,50 @@ void EstimateRHT(const std::int32_t* points, int numberOfPoints, const double re
     return;
   }
 
-  // 2. The votes: each accumulator's table gives the bin of a cell and the
-  // sign that folds the cell's flipped direction (n and -n are one plane).
+  // 2. The votes: each accumulator's table gives the bin of a cell and
+  // whether the cell's flipped direction folds (n and -n are one plane).
+  // The accumulators vote together, trial by trial: their counters are
+  // independent, which keeps a run of votes into one bin from waiting on
+  // itself.
   const int bins = tables.NumberOfBins();
-  work.Counts.assign(static_cast<std::size_t>(bins), 0);
-  work.Votes.resize(static_cast<std::size_t>(valid));
+  work.Counts.assign(static_cast<std::size_t>(bins) * A, 0);
+  work.Votes.resize(static_cast<std::size_t>(valid) * A);
+  std::int32_t* counts = work.Counts.data();
+  std::uint16_t* votes = work.Votes.data();
+  {
+    const std::uint16_t* table[64];
+    const int groups = (A + 63) / 64;
+    for (int group = 0; group < groups; ++group)
+    {
+      const int a0 = 64 * group, na = std::min(64, A - a0);
+      for (int a = 0; a < na; ++a)
+      {
+        table[a] = tables.Table(pool[a0 + a]);
+      }
+      for (int t = 0; t < valid; ++t)
+      {
+        const std::int32_t c = cells[t];
+        for (int a = 0; a < na; ++a)
+        {
+          const std::uint16_t e = table[a][c];
+          votes[static_cast<std::size_t>(a0 + a) * valid + t] = e;
+          ++counts[static_cast<std::size_t>(a0 + a) * bins + (e >> 1)];
+        }
+      }
+    }
+  }
   double total[3] = { 0, 0, 0 };
   for (int a = 0; a < A; ++a)
   {
-    const std::int16_t* table = tables.Table(pool[a]);
-    std::int32_t* counts = work.Counts.data();
-    std::int16_t* votes = work.Votes.data();
-    std::fill(counts, counts + bins, 0);
-    for (int t = 0; t < valid; ++t)
-    {
-      const std::int16_t e = table[cells[t]];
-      ++counts[(e < 0 ? -e : e) - 1];
-      votes[t] = e;
-    }
+    const std::int32_t* count = counts + static_cast<std::size_t>(a) * bins;
+    const std::uint16_t* vote = votes + static_cast<std::size_t>(a) * valid;
     // The winning bin (ties: the lowest bin), then the mean of its normals
-    // with the signs the fold gave them.
+    // with the signs the fold gave them (negative when exactly one of the
+    // fold and the cell's flip turned it).
     int best = 0;
     for (int b = 1; b < bins; ++b)
     {
-      if (counts[b] > counts[best])
+      if (count[b] > count[best])
       {
         best = b;
       }
@@ -475,15 +495,14 @@ void EstimateRHT(const std::int32_t* points, int numberOfPoints, const double re
     double sum[3] = { 0, 0, 0 };
     for (int t = 0; t < valid; ++t)
     {
-      const int v = votes[t];
-      if (v == best + 1 || v == -(best + 1))
-      {
-        const double s = (v > 0) == (flips[t] > 0) ? 1.0 : -1.0;
-        const double* m = normals + 3 * t;
-        sum[0] += s * m[0];
-        sum[1] += s * m[1];
-        sum[2] += s * m[2];
-      }
+      const unsigned v = vote[t];
+      const double w = (v >> 1) == static_cast<unsigned>(best)
+        ? (((v ^ flips[t]) & 1u) ? -1.0 : 1.0)
+        : 0.0;
+      const double* m = normals + 3 * t;
+      sum[0] += w * m[0];
+      sum[1] += w * m[1];
+      sum[2] += w * m[2];
     }
     const double len = std::sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
     if (!(len > 0))

@@ -92,7 +92,7 @@ private:
 class HoughTables
 {
 public:
-  static constexpr int CellsPerSide = 64;
+  static constexpr int CellsPerSide = 32;
   /// A pool of max(MinimumPool, accumulators) rotations.
   static constexpr int MinimumPool = 32;
   void Build(int resolution, int accumulators, std::uint64_t seed);
@@ -102,9 +102,9 @@ public:
   const HoughAccumulator& GetAccumulator() const { return this->Accumulator; }
   /// Row-major rotation a of the pool.
   const double* Rotation(int a) const { return this->Rotations.data() + 9 * a; }
-  /// Table of rotation a of the pool: per cell, bin + 1, negative when the cell's
-  /// (flipped) direction folds.
-  const std::int16_t* Table(int a) const
+  /// Table of rotation a of the pool: per cell, 2 bin + 1 when the cell's
+  /// (flipped) direction folds, 2 bin otherwise.
+  const std::uint16_t* Table(int a) const
   {
     return this->Tables.data() + static_cast<std::size_t>(a) * 3 * CellsPerSide * CellsPerSide;
   }
@@ -139,7 +139,7 @@ private:
   int A = 0, P = 0;
   HoughAccumulator Accumulator;
   std::vector<double> Rotations;
-  std::vector<std::int16_t> Tables;
+  std::vector<std::uint16_t> Tables;
 };
 
 struct RHTParameters
@@ -156,9 +156,9 @@ struct RHTWorkspace
   std::vector<std::int32_t> Points;
   std::vector<double> Normals;      // 3 per valid trial
   std::vector<std::int32_t> Cells;  // per valid trial: its cube-map cell
-  std::vector<std::int8_t> Flips;   // per valid trial: the cell's flip (+-1)
-  std::vector<std::int16_t> Votes;  // per valid trial: table entry
-  std::vector<std::int32_t> Counts; // per bin
+  std::vector<std::uint8_t> Flips;  // per valid trial: 1 when its cell flipped it
+  std::vector<std::uint16_t> Votes; // per accumulator and valid trial: table entry
+  std::vector<std::int32_t> Counts; // per accumulator and bin
   std::vector<int> Pool;            // rotation indices (the surfel's picks first)
 };
 
