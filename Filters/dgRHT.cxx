@@ -309,6 +309,53 @@ void HoughAccumulator::Build(int resolution)
 }
 
 // ---------------------------------------------------------------------------
+void HoughTables::Build(int resolution, int accumulators, std::uint64_t seed)
+{
+  this->Accumulator.Build(resolution);
+  this->A = std::max(1, accumulators);
+  this->P = std::max(MinimumPool, this->A);
+  const int A = this->P, G = CellsPerSide;
+  // The rotations from the seed alone (a stream apart from the surfels').
+  Generator g(Mix(seed ^ 0x5851F42D4C957F2Dull));
+  this->Rotations.resize(9 * static_cast<std::size_t>(A));
+  for (int a = 0; a < A; ++a)
+  {
+    RandomRotation(g, this->Rotations.data() + 9 * a);
+  }
+  const std::size_t cells = 3 * static_cast<std::size_t>(G) * G;
+  this->Tables.resize(cells * A);
+  for (int a = 0; a < A; ++a)
+  {
+    const double* R = this->Rotation(a);
+    std::uint16_t* table = this->Tables.data() + cells * a;
+    for (int face = 0; face < 3; ++face)
+      for (int iv = 0; iv < G; ++iv)
+        for (int iu = 0; iu < G; ++iu)
+        {
+          // The cell's centre on the face m = 1 (u, v in -1..1).
+          const double u = (iu + 0.5) * 2.0 / G - 1, v = (iv + 0.5) * 2.0 / G - 1;
+          double p[3];
+          p[face] = 1;
+          p[(face + 1) % 3] = u;
+          p[(face + 2) % 3] = v;
+          const double l = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+          double x = (R[0] * p[0] + R[1] * p[1] + R[2] * p[2]) / l;
+          double y = (R[3] * p[0] + R[4] * p[1] + R[5] * p[2]) / l;
+          double z = (R[6] * p[0] + R[7] * p[1] + R[8] * p[2]) / l;
+          const bool folded = z < 0;
+          if (folded)
+          {
+            x = -x;
+            y = -y;
+            z = -z;
+          }
+          const int bin = this->Accumulator.Bin(x, y, z);
+          table[(face * G + iv) * G + iu] = static_cast<std::uint16_t>(2 * bin + (folded ? 1 : 0));
+        }
+  }
+}
+
+// ---------------------------------------------------------------------------
 std::uint64_t SurfelSeed(std::uint64_t seed, std::int64_t i, std::int64_t j, std::int64_t k, int d)
 {
   std::uint64_t h = Mix(seed + 0x9E3779B97F4A7C15ull);
@@ -319,36 +366,40 @@ std::uint64_t SurfelSeed(std::uint64_t seed, std::int64_t i, std::int64_t j, std
 }
 
 void EstimateRHT(const std::int32_t* points, int numberOfPoints, const double reference[3],
-  const RHTParameters& parameters, std::uint64_t surfelSeed, const HoughAccumulator& accumulator,
+  const RHTParameters& parameters, std::uint64_t surfelSeed, const HoughTables& tables,
   RHTWorkspace& work, RHTEstimate& out)
 {
   const int n = numberOfPoints;
   const int T = std::max(1, parameters.Trials);
-  const int A = std::max(1, parameters.Accumulators);
+  const int A = tables.NumberOfAccumulators();
   if (n < 3)
   {
     Fallback(reference, n, out);
     return;
   }
   Generator g(surfelSeed);
-  // The accumulators' rotations first, then the triplets.
-  double rotations[9 * 64];
-  std::vector<double> moreRotations;
-  double* R = rotations;
-  if (A > 64)
+  // The accumulators' rotations: A distinct ones of the pool (a partial
+  // Fisher-Yates shuffle), then the triplets.
+  const int P = tables.PoolSize();
+  work.Pool.resize(static_cast<std::size_t>(P));
+  int* pool = work.Pool.data();
+  for (int q = 0; q < P; ++q)
   {
-    moreRotations.resize(9 * static_cast<std::size_t>(A));
-    R = moreRotations.data();
+    pool[q] = q;
   }
   for (int a = 0; a < A; ++a)
   {
-    RandomRotation(g, R + 9 * a);
+    std::swap(pool[a], pool[a + static_cast<int>(g.Below(static_cast<std::uint32_t>(P - a)))]);
   }
 
   // 1. T valid triplets (at most 10 T draws), each a unit normal flipped
   // into the reference's hemisphere.
   work.Normals.resize(3 * static_cast<std::size_t>(T));
+  work.Cells.resize(static_cast<std::size_t>(T));
+  work.Flips.resize(static_cast<std::size_t>(T));
   double* normals = work.Normals.data();
+  std::int32_t* cells = work.Cells.data();
+  std::uint8_t* flips = work.Flips.data();
   int valid = 0;
   const std::int64_t maxDraws = 10 * static_cast<std::int64_t>(T);
   const std::uint32_t un = static_cast<std::uint32_t>(n);
@@ -372,15 +423,19 @@ void EstimateRHT(const std::int32_t* points, int numberOfPoints, const double re
     }
     const double v[3] = { static_cast<double>(cr[0]), static_cast<double>(cr[1]),
       static_cast<double>(cr[2]) };
-    double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    if (v[0] * reference[0] + v[1] * reference[1] + v[2] * reference[2] < 0)
-    {
-      len = -len;
-    }
+    // The cell from the cross product itself (its direction is the
+    // normal's, up to the sign), apart from the square root's latency.
+    int flip;
+    cells[valid] = HoughTables::Cell(v[0], v[1], v[2], flip);
+    // Into the reference's hemisphere, without a branch (the sign is a coin
+    // toss).
+    const double dot = v[0] * reference[0] + v[1] * reference[1] + v[2] * reference[2];
+    const double inv = std::copysign(1.0 / std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), dot);
     double* m = normals + 3 * valid;
-    m[0] = v[0] / len;
-    m[1] = v[1] / len;
-    m[2] = v[2] / len;
+    m[0] = v[0] * inv;
+    m[1] = v[1] * inv;
+    m[2] = v[2] * inv;
+    flips[valid] = static_cast<std::uint8_t>((flip < 0) != std::signbit(dot));
     ++valid;
   }
   if (valid == 0)
@@ -389,41 +444,50 @@ void EstimateRHT(const std::int32_t* points, int numberOfPoints, const double re
     return;
   }
 
-  // 2. The votes: each accumulator sees the normals through its rotation,
-  // folded onto its upper hemisphere (n and -n are one plane).
-  const int bins = accumulator.NumberOfBins();
-  work.Counts.assign(static_cast<std::size_t>(bins), 0);
-  work.Votes.resize(static_cast<std::size_t>(valid));
+  // 2. The votes: each accumulator's table gives the bin of a cell and
+  // whether the cell's flipped direction folds (n and -n are one plane).
+  // The accumulators vote together, trial by trial: their counters are
+  // independent, which keeps a run of votes into one bin from waiting on
+  // itself.
+  const int bins = tables.NumberOfBins();
+  work.Counts.assign(static_cast<std::size_t>(bins) * A, 0);
+  work.Votes.resize(static_cast<std::size_t>(valid) * A);
+  std::int32_t* counts = work.Counts.data();
+  std::uint16_t* votes = work.Votes.data();
+  {
+    const std::uint16_t* table[64];
+    const int groups = (A + 63) / 64;
+    for (int group = 0; group < groups; ++group)
+    {
+      const int a0 = 64 * group, na = std::min(64, A - a0);
+      for (int a = 0; a < na; ++a)
+      {
+        table[a] = tables.Table(pool[a0 + a]);
+      }
+      for (int t = 0; t < valid; ++t)
+      {
+        const std::int32_t c = cells[t];
+        for (int a = 0; a < na; ++a)
+        {
+          const std::uint16_t e = table[a][c];
+          votes[static_cast<std::size_t>(a0 + a) * valid + t] = e;
+          ++counts[static_cast<std::size_t>(a0 + a) * bins + (e >> 1)];
+        }
+      }
+    }
+  }
   double total[3] = { 0, 0, 0 };
   for (int a = 0; a < A; ++a)
   {
-    const double* Ra = R + 9 * a;
-    std::int32_t* counts = work.Counts.data();
-    std::int16_t* votes = work.Votes.data();
-    std::fill(counts, counts + bins, 0);
-    for (int t = 0; t < valid; ++t)
-    {
-      const double* m = normals + 3 * t;
-      double x = Ra[0] * m[0] + Ra[1] * m[1] + Ra[2] * m[2];
-      double y = Ra[3] * m[0] + Ra[4] * m[1] + Ra[5] * m[2];
-      double z = Ra[6] * m[0] + Ra[7] * m[1] + Ra[8] * m[2];
-      const bool folded = z < 0;
-      if (folded)
-      {
-        x = -x;
-        y = -y;
-        z = -z;
-      }
-      const int bin = accumulator.Bin(x, y, z);
-      ++counts[bin];
-      votes[t] = static_cast<std::int16_t>(folded ? -(bin + 1) : bin + 1);
-    }
+    const std::int32_t* count = counts + static_cast<std::size_t>(a) * bins;
+    const std::uint16_t* vote = votes + static_cast<std::size_t>(a) * valid;
     // The winning bin (ties: the lowest bin), then the mean of its normals
-    // with the signs the fold gave them.
+    // with the signs the fold gave them (negative when exactly one of the
+    // fold and the cell's flip turned it).
     int best = 0;
     for (int b = 1; b < bins; ++b)
     {
-      if (counts[b] > counts[best])
+      if (count[b] > count[best])
       {
         best = b;
       }
@@ -431,15 +495,14 @@ void EstimateRHT(const std::int32_t* points, int numberOfPoints, const double re
     double sum[3] = { 0, 0, 0 };
     for (int t = 0; t < valid; ++t)
     {
-      const int v = votes[t];
-      if (v == best + 1 || v == -(best + 1))
-      {
-        const double s = v > 0 ? 1.0 : -1.0;
-        const double* m = normals + 3 * t;
-        sum[0] += s * m[0];
-        sum[1] += s * m[1];
-        sum[2] += s * m[2];
-      }
+      const unsigned v = vote[t];
+      const double w = (v >> 1) == static_cast<unsigned>(best)
+        ? (((v ^ flips[t]) & 1u) ? -1.0 : 1.0)
+        : 0.0;
+      const double* m = normals + 3 * t;
+      sum[0] += w * m[0];
+      sum[1] += w * m[1];
+      sum[2] += w * m[2];
     }
     const double len = std::sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
     if (!(len > 0))

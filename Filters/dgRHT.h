@@ -77,6 +77,71 @@ private:
   std::vector<int> Guess;       // band guess per z cell
 };
 
+/// The accumulators of a run: a pool of rotations drawn from the seed alone
+/// (the same for every surfel; still independent of threads and pieces),
+/// and per rotation a look-up table from a cube-map cell of the unrotated
+/// sphere to the bin of the cell's centre once rotated and folded onto
+/// z >= 0. Each surfel turns its A accumulators by A distinct rotations of
+/// the pool, picked with its own generator, so that neighbouring surfels
+/// mostly use different ones. A vote is then one cell computation per
+/// normal and one load per accumulator, in place of a rotation, a fold, a
+/// band search and an atan2. The cube map covers half the sphere: a
+/// direction is first flipped so that its largest component (in absolute
+/// value) is positive, n and -n being one plane. Cells: CellsPerSide^2 per
+/// face, 3 faces.
+class HoughTables
+{
+public:
+  static constexpr int CellsPerSide = 32;
+  /// A pool of max(MinimumPool, accumulators) rotations.
+  static constexpr int MinimumPool = 32;
+  void Build(int resolution, int accumulators, std::uint64_t seed);
+  int NumberOfBins() const { return this->Accumulator.NumberOfBins(); }
+  int NumberOfAccumulators() const { return this->A; }
+  int PoolSize() const { return this->P; }
+  const HoughAccumulator& GetAccumulator() const { return this->Accumulator; }
+  /// Row-major rotation a of the pool.
+  const double* Rotation(int a) const { return this->Rotations.data() + 9 * a; }
+  /// Table of rotation a of the pool: per cell, 2 bin + 1 when the cell's
+  /// (flipped) direction folds, 2 bin otherwise.
+  const std::uint16_t* Table(int a) const
+  {
+    return this->Tables.data() + static_cast<std::size_t>(a) * 3 * CellsPerSide * CellsPerSide;
+  }
+  /// The cell of a non-zero vector; `flip` is -1 when the vector was
+  /// negated to make its largest component positive, else 1.
+  static int Cell(double x, double y, double z, int& flip)
+  {
+    const double ax = std::abs(x), ay = std::abs(y), az = std::abs(z);
+    int face;
+    double m, u, v;
+    if (ax >= ay && ax >= az)
+    {
+      face = 0, m = x, u = y, v = z;
+    }
+    else if (ay >= az)
+    {
+      face = 1, m = y, u = z, v = x;
+    }
+    else
+    {
+      face = 2, m = z, u = x, v = y;
+    }
+    flip = m < 0 ? -1 : 1;
+    const double h = 0.5 * CellsPerSide / std::abs(m);
+    const double c = 0.5 * CellsPerSide;
+    const int iu = std::min(CellsPerSide - 1, static_cast<int>(flip * u * h + c));
+    const int iv = std::min(CellsPerSide - 1, static_cast<int>(flip * v * h + c));
+    return (face * CellsPerSide + iv) * CellsPerSide + iu;
+  }
+
+private:
+  int A = 0, P = 0;
+  HoughAccumulator Accumulator;
+  std::vector<double> Rotations;
+  std::vector<std::uint16_t> Tables;
+};
+
 struct RHTParameters
 {
   double Radius = 6.0;
@@ -90,8 +155,11 @@ struct RHTWorkspace
 {
   std::vector<std::int32_t> Points;
   std::vector<double> Normals;      // 3 per valid trial
-  std::vector<std::int16_t> Votes;  // per valid trial: bin + 1, negative when folded
-  std::vector<std::int32_t> Counts; // per bin
+  std::vector<std::int32_t> Cells;  // per valid trial: its cube-map cell
+  std::vector<std::uint8_t> Flips;  // per valid trial: 1 when its cell flipped it
+  std::vector<std::uint16_t> Votes; // per accumulator and valid trial: table entry
+  std::vector<std::int32_t> Counts; // per accumulator and bin
+  std::vector<int> Pool;            // rotation indices (the surfel's picks first)
 };
 
 struct RHTEstimate
@@ -109,9 +177,10 @@ std::uint64_t SurfelSeed(std::uint64_t seed, std::int64_t i, std::int64_t j, std
 /// The RHT normal from the candidate points (doubled offsets, 3 ints each),
 /// oriented into the hemisphere of `reference` (unit, MATH.md section 6's
 /// outward direction). With fewer than three points or no valid triplet
-/// the estimate is the reference itself (Fallback).
+/// the estimate is the reference itself (Fallback). The accumulators are
+/// `tables` (built for parameters.Accumulators and parameters.Seed).
 void EstimateRHT(const std::int32_t* points, int numberOfPoints, const double reference[3],
-  const RHTParameters& parameters, std::uint64_t surfelSeed, const HoughAccumulator& accumulator,
+  const RHTParameters& parameters, std::uint64_t surfelSeed, const HoughTables& tables,
   RHTWorkspace& work, RHTEstimate& out);
 
 constexpr double RHTPi = 3.14159265358979323846;

@@ -1,9 +1,11 @@
 #include "dgSurfaceEstimator.h"
 
 #include "dgPieces.h"
+#include "dgVoxelSelection.h"
 #include "vtkDigitalSurfaceFilter.h"
 
 #include <vtkCellData.h>
+#include <vtkAlgorithm.h>
 #include <vtkDataArray.h>
 #include <vtkFieldData.h>
 #include <vtkImageData.h>
@@ -61,7 +63,73 @@ bool ReadSurfels(vtkDataArray* voxels, vtkDataArray* directions, vtkIdType n,
   }
   return true;
 }
+
+std::string Ext(const int e[6])
+{
+  std::ostringstream os;
+  os << e[0] << ".." << e[1] << ", " << e[2] << ".." << e[3] << ", " << e[4] << ".." << e[5];
+  return os.str();
+}
 } // namespace
+
+const char* const NoSourceImageMessage =
+  "No source image: give the vtkImageData the surface was extracted from with "
+  "SetSourceConnection or SetSourceData (input port 1).";
+
+int FillEstimatorInputPort(int port, vtkInformation* info)
+{
+  if (port == 0)
+  {
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+  }
+  else
+  {
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkImageData");
+    info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+  }
+  return 1;
+}
+
+int FinishPiece(vtkInformationVector* outputVector, int status)
+{
+  if (!AllPiecesOk(outputVector->GetInformationObject(0), status != 0))
+  {
+    vtkPolyData::GetData(outputVector)->Initialize();
+    return 0;
+  }
+  return status;
+}
+
+bool SelectInside(vtkDataArray* scalars, const VoxelSelection& select, const int dims[3],
+  std::vector<std::uint8_t>& mask, std::string& error)
+{
+  mask.assign(static_cast<std::size_t>(dims[0]) * dims[1] * dims[2], 0);
+  std::int64_t insideCount = 0;
+  if (!SelectVoxels(scalars, dims, select, mask.data(), dims[0], 0, insideCount, error))
+  {
+    error = "Cannot select voxels in the source image: " + error + ".";
+    return false;
+  }
+  return true;
+}
+
+int BallReach(double radius, bool worldUnits, vtkInformation* sourceInfo)
+{
+  if (worldUnits && sourceInfo && sourceInfo->Has(vtkDataObject::SPACING()))
+  {
+    const double* sp = sourceInfo->Get(vtkDataObject::SPACING());
+    const double h = std::min({ std::abs(sp[0]), std::abs(sp[1]), std::abs(sp[2]) });
+    radius = h > 0 ? radius / h : radius;
+  }
+  // A ball centred on a surfel (half a voxel off the inside voxel's centre)
+  // reads voxels up to ceil(r) + 1 away; here bad radii only must not
+  // overflow.
+  if (!(radius > 0) || !std::isfinite(radius) || radius > 1e6)
+  {
+    return 1;
+  }
+  return static_cast<int>(std::ceil(radius)) + 1;
+}
 
 void RequestEstimatorExtents(
   vtkInformationVector** inputVector, vtkInformationVector* outputVector, int reach)
@@ -209,6 +277,49 @@ bool ImageHoldsReach(const SurfaceOnImage& s, int reach, int need[6])
   }
   GrowExtent(box, reach, s.Whole, need);
   return ExtentContains(s.Extent, need);
+}
+
+bool RadiiToVoxels(const SurfaceOnImage& s, double* radii, int count, std::string& error)
+{
+  const double* sp = s.Spacing;
+  if (!s.Isotropic)
+  {
+    std::ostringstream os;
+    os << (count > 1 ? "Radii in world units need" : "Radius in world units needs")
+       << " an isotropic spacing (the image has " << sp[0] << ", " << sp[1] << ", " << sp[2]
+       << "); give the " << (count > 1 ? "radii" : "radius") << " in voxels instead.";
+    error = os.str();
+    return false;
+  }
+  for (int c = 0; c < count; ++c)
+  {
+    radii[c] /= std::abs(sp[0]);
+  }
+  return true;
+}
+
+bool RadiusFitsImage(const SurfaceOnImage& s, const char* name, double radius, std::string& error)
+{
+  const int* whole = s.Whole;
+  const int w[3] = { whole[1] - whole[0] + 1, whole[3] - whole[2] + 1, whole[5] - whole[4] + 1 };
+  if (radius > std::max({ w[0], w[1], w[2] }))
+  {
+    std::ostringstream os;
+    os << name << " " << radius << " voxels is larger than the image (" << w[0] << " x " << w[1]
+       << " x " << w[2] << " voxels).";
+    error = os.str();
+    return false;
+  }
+  return true;
+}
+
+std::string MissingReachMessage(
+  const SurfaceOnImage& s, const int need[6], const std::string& reads, const std::string& note)
+{
+  return "The source image holds the voxels " + Ext(s.Extent) + " but " + reads + " " +
+    Ext(need) + note +
+    ": connect the surface filter and this filter to the same image source, the surface "
+    "directly to this filter's input, or give the whole image.";
 }
 
 void NormalToWorldMatrix(vtkImageData* image, double Minv[9])

@@ -64,36 +64,7 @@ vtkDataObject* vtkIINormalEstimator::GetSource()
 
 int vtkIINormalEstimator::FillInputPortInformation(int port, vtkInformation* info)
 {
-  if (port == 0)
-  {
-    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
-  }
-  else
-  {
-    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkImageData");
-    // Optional for the pipeline so that a missing image gets our own message.
-    info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
-  }
-  return 1;
-}
-
-int vtkIINormalEstimator::BallReach(vtkInformation* sourceInfo) const
-{
-  double radius = this->Radius;
-  if (this->RadiusUnits == WORLD && sourceInfo->Has(vtkDataObject::SPACING()))
-  {
-    const double* sp = sourceInfo->Get(vtkDataObject::SPACING());
-    const double h = std::min({ std::abs(sp[0]), std::abs(sp[1]), std::abs(sp[2]) });
-    radius = h > 0 ? radius / h : radius;
-  }
-  // A ball centred on a surfel (half a voxel off the inside voxel's centre)
-  // reads voxels up to ceil(r) + 1 away. Bad radii are reported by
-  // RequestData; here they only must not overflow.
-  if (!(radius > 0) || !std::isfinite(radius) || radius > 1e6)
-  {
-    return 1;
-  }
-  return static_cast<int>(std::ceil(radius)) + 1;
+  return dg::FillEstimatorInputPort(port, info);
 }
 
 int vtkIINormalEstimator::RequestUpdateExtent(
@@ -106,7 +77,8 @@ int vtkIINormalEstimator::RequestUpdateExtent(
   vtkInformation* sourceInfo = inputVector[1]->GetInformationObject(0);
   if (sourceInfo)
   {
-    dg::RequestEstimatorExtents(inputVector, outputVector, this->BallReach(sourceInfo));
+    dg::RequestEstimatorExtents(inputVector, outputVector,
+      dg::BallReach(this->Radius, this->RadiusUnits == WORLD, sourceInfo));
   }
   return 1;
 }
@@ -120,15 +92,7 @@ vtkMTimeType vtkIINormalEstimator::GetMTime()
 int vtkIINormalEstimator::RequestData(
   vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  const int status = this->ExecutePiece(request, inputVector, outputVector);
-  // In a distributed run every piece stops when one fails: the later
-  // stages' collective steps would otherwise wait for it forever.
-  if (!dg::AllPiecesOk(outputVector->GetInformationObject(0), status != 0))
-  {
-    vtkPolyData::GetData(outputVector)->Initialize();
-    return 0;
-  }
-  return status;
+  return dg::FinishPiece(outputVector, this->ExecutePiece(request, inputVector, outputVector));
 }
 
 int vtkIINormalEstimator::ExecutePiece(
@@ -150,8 +114,7 @@ int vtkIINormalEstimator::ExecutePiece(
   }
   if (!image)
   {
-    vtkErrorMacro("No source image: give the vtkImageData the surface was extracted from with "
-                  "SetSourceConnection or SetSourceData (input port 1).");
+    vtkErrorMacro(<< dg::NoSourceImageMessage);
     return 0;
   }
   if (!(this->Radius > 0) || !std::isfinite(this->Radius))
@@ -172,10 +135,6 @@ int vtkIINormalEstimator::ExecutePiece(
     }
   }
   const vtkIdType nSurfels = surface->GetNumberOfCells();
-  const std::vector<int>& vox = on.Voxels;
-  const std::vector<int>& dirs = on.Directions;
-  const int* ext = on.Extent;
-  const int* whole = on.Whole;
   const int* dims = on.Dims;
   const double* spacing = on.Spacing;
 
@@ -184,14 +143,12 @@ int vtkIINormalEstimator::ExecutePiece(
   double radius = this->Radius;
   if (this->RadiusUnits == WORLD)
   {
-    if (!isotropic)
+    std::string error;
+    if (!dg::RadiiToVoxels(on, &radius, 1, error))
     {
-      vtkErrorMacro("Radius in world units needs an isotropic spacing (the image has "
-        << spacing[0] << ", " << spacing[1] << ", " << spacing[2]
-        << "); give the radius in voxels instead.");
+      vtkErrorMacro(<< error);
       return 0;
     }
-    radius /= std::abs(spacing[0]);
   }
   if (this->ComputeCurvatures && !isotropic)
   {
@@ -199,27 +156,21 @@ int vtkIINormalEstimator::ExecutePiece(
       << spacing[0] << ", " << spacing[1] << ", " << spacing[2] << ").");
     return 0;
   }
-  const int wholeDims[3] = { whole[1] - whole[0] + 1, whole[3] - whole[2] + 1, whole[5] - whole[4] + 1 };
-  const int maxDim = std::max({ wholeDims[0], wholeDims[1], wholeDims[2] });
-  if (radius > maxDim)
-  {
-    vtkErrorMacro("Radius " << radius << " voxels is larger than the image (" << wholeDims[0]
-                            << " x " << wholeDims[1] << " x " << wholeDims[2] << " voxels).");
-    return 0;
-  }
   // A piece's image must hold every ball: a cropped ball would be a wrong
   // normal without a word.
   {
+    std::string error;
     int need[6];
+    if (!dg::RadiusFitsImage(on, "Radius", radius, error))
+    {
+      vtkErrorMacro(<< error);
+      return 0;
+    }
     if (!dg::ImageHoldsReach(on, static_cast<int>(std::ceil(radius)) + 1, need))
     {
-      vtkErrorMacro("The source image holds the voxels "
-        << ext[0] << ".." << ext[1] << ", " << ext[2] << ".." << ext[3] << ", " << ext[4] << ".."
-        << ext[5] << " but the balls of radius " << radius << " around these surfels read "
-        << need[0] << ".." << need[1] << ", " << need[2] << ".." << need[3] << ", " << need[4]
-        << ".." << need[5]
-        << ": connect the surface filter and this filter to the same image source, the "
-           "surface directly to this filter's input, or give the whole image.");
+      std::ostringstream reads;
+      reads << "the balls of radius " << radius << " around these surfels read";
+      vtkErrorMacro(<< dg::MissingReachMessage(on, need, reads.str(), ""));
       return 0;
     }
   }
@@ -232,12 +183,11 @@ int vtkIINormalEstimator::ExecutePiece(
       this->GetInputArrayInformation(0), image);
     const dg::VoxelSelection select{ this->SelectionMode, this->LowerThreshold,
       this->UpperThreshold, this->Label, this->SelectedComponent };
-    std::vector<std::uint8_t> mask(static_cast<std::size_t>(dims[0]) * dims[1] * dims[2]);
-    std::int64_t insideCount = 0;
+    std::vector<std::uint8_t> mask;
     std::string error;
-    if (!dg::SelectVoxels(scalars, dims, select, mask.data(), dims[0], 0, insideCount, error))
+    if (!dg::SelectInside(scalars, select, dims, mask, error))
     {
-      vtkErrorMacro("Cannot select voxels in the source image: " << error << ".");
+      vtkErrorMacro(<< error);
       return 0;
     }
     kernel.SetVolume(mask.data(), dims, dims[0], 0);
@@ -299,37 +249,19 @@ int vtkIINormalEstimator::ExecutePiece(
     vtkIdType localFallbacks = 0;
     for (vtkIdType s = b; s < e; ++s)
     {
-      const int i = vox[3 * s] - ext[0], j = vox[3 * s + 1] - ext[2], k = vox[3 * s + 2] - ext[4];
-      const int d = dirs[s];
-      if (d < 0 || d > 5 || i < 0 || j < 0 || k < 0 || i >= dims[0] || j >= dims[1] ||
-        k >= dims[2])
+      int ijk[3], d;
+      const dg::SurfelCheck check = dg::CheckSurfel(on, runs, s, ijk, d);
+      if (check != dg::SurfelCheck::Ok)
       {
-        badSurfel = s;
+        (check == dg::SurfelCheck::Bad ? badSurfel : notSelected) = s;
         continue;
       }
-      int o[3] = { i, j, k };
-      o[d / 2] += (d & 1) ? 1 : -1;
-      if (!runs.Inside(i, j, k) || runs.Inside(o[0], o[1], o[2]))
-      {
-        notSelected = s;
-        continue;
-      }
+      const int i = ijk[0], j = ijk[1], k = ijk[2];
       dg::IIEstimate est;
       dg::EstimateFromMoments(kernel.Moments(i, j, k, d), d, radius, curv, est,
         reference, &kernel.GetBall(d / 2));
       localFallbacks += est.TrivialFallback;
-      double w[3], len = 0;
-      for (int r = 0; r < 3; ++r)
-      {
-        // Row r of M^-T is column r of M^-1.
-        w[r] = Minv[r] * est.Normal[0] + Minv[3 + r] * est.Normal[1] + Minv[6 + r] * est.Normal[2];
-        len += w[r] * w[r];
-      }
-      len = std::sqrt(len);
-      for (int r = 0; r < 3; ++r)
-      {
-        nrm[3 * s + r] = w[r] / len;
-      }
+      dg::NormalToWorld(Minv, est.Normal, nrm + 3 * s);
       if (curv)
       {
         pm[s] = est.Mean * curvatureScale;

@@ -199,8 +199,6 @@ protected:
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  // Voxel layers beyond a surfel that its ball reads: ceil(r) + 1.
-  int BallReach(vtkInformation* sourceInfo) const;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   // RequestData of this piece alone (RequestData adds the pieces' agreement).
   int ExecutePiece(vtkInformation*, vtkInformationVector**, vtkInformationVector*);

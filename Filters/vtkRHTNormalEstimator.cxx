@@ -1,10 +1,10 @@
 #include "vtkRHTNormalEstimator.h"
 
-#include "dgEstimatorInput.h"
 #include "dgIntegralInvariant.h"
 #include "dgPieces.h"
 #include "dgPipelineAbort.h"
 #include "dgRHT.h"
+#include "dgSurfaceEstimator.h"
 #include "dgVoxelSelection.h"
 
 #include <vtkCellData.h>
@@ -23,6 +23,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -59,16 +60,7 @@ vtkDataObject* vtkRHTNormalEstimator::GetSource()
 
 int vtkRHTNormalEstimator::FillInputPortInformation(int port, vtkInformation* info)
 {
-  if (port == 0)
-  {
-    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
-  }
-  else
-  {
-    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkImageData");
-    info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
-  }
-  return 1;
+  return dg::FillEstimatorInputPort(port, info);
 }
 
 int vtkRHTNormalEstimator::RequestUpdateExtent(
@@ -82,7 +74,7 @@ int vtkRHTNormalEstimator::RequestUpdateExtent(
   // ball lie within ceil(r) + 1 voxels of the surfel's inside voxel.
   const int reach = dg::BallReach(
     this->Radius, this->RadiusUnits == WORLD, inputVector[1]->GetInformationObject(0));
-  dg::RequestImageReach(inputVector, outputVector, reach);
+  dg::RequestEstimatorExtents(inputVector, outputVector, reach);
   return 1;
 }
 
@@ -95,13 +87,7 @@ vtkMTimeType vtkRHTNormalEstimator::GetMTime()
 int vtkRHTNormalEstimator::RequestData(
   vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  const int status = this->ExecutePiece(request, inputVector, outputVector);
-  if (!dg::AllPiecesOk(outputVector->GetInformationObject(0), status != 0))
-  {
-    vtkPolyData::GetData(outputVector)->Initialize();
-    return 0;
-  }
-  return status;
+  return dg::FinishPiece(outputVector, this->ExecutePiece(request, inputVector, outputVector));
 }
 
 int vtkRHTNormalEstimator::ExecutePiece(
@@ -124,8 +110,7 @@ int vtkRHTNormalEstimator::ExecutePiece(
   }
   if (!image)
   {
-    vtkErrorMacro("No source image: give the vtkImageData the surface was extracted from with "
-                  "SetSourceConnection or SetSourceData (input port 1).");
+    vtkErrorMacro(<< dg::NoSourceImageMessage);
     return 0;
   }
   if (!(this->Radius > 0) || !std::isfinite(this->Radius))
@@ -153,18 +138,25 @@ int vtkRHTNormalEstimator::ExecutePiece(
 
   // 1. The surface must come from this image, and a piece's image must hold
   // every surfel's reach.
-  dg::EstimatorInput in;
+  dg::SurfaceOnImage in;
   std::string error;
-  if (!dg::ReadEstimatorInput(surface, image, inputVector[1]->GetInformationObject(0),
-        this->Radius, this->RadiusUnits == WORLD, in, error) ||
-    !dg::ImageHoldsReach(in, static_cast<int>(std::ceil(in.Radius)) + 1, error))
+  double radius = this->Radius;
+  int need[6];
+  if (!dg::ReadSurfaceOnImage(surface, image, inputVector[1]->GetInformationObject(0), in, error) ||
+    (this->RadiusUnits == WORLD && !dg::RadiiToVoxels(in, &radius, 1, error)) ||
+    !dg::RadiusFitsImage(in, "Radius", radius, error))
   {
     vtkErrorMacro(<< error);
     return 0;
   }
-  const double radius = in.Radius;
+  if (!dg::ImageHoldsReach(in, static_cast<int>(std::ceil(radius)) + 1, need))
+  {
+    std::ostringstream reads;
+    reads << "the balls of radius " << radius << " around these surfels read";
+    vtkErrorMacro(<< dg::MissingReachMessage(in, need, reads.str(), ""));
+    return 0;
+  }
   const vtkIdType nSurfels = static_cast<vtkIdType>(in.Directions.size());
-  const int* ext = in.Extent;
   const int* dims = in.Dims;
 
   // 2. The image box's inside voxels: runs (orientation balls) and surfels
@@ -177,19 +169,20 @@ int vtkRHTNormalEstimator::ExecutePiece(
       this->GetInputArrayInformation(0), image);
     const dg::VoxelSelection select{ this->SelectionMode, this->LowerThreshold,
       this->UpperThreshold, this->Label, this->SelectedComponent };
-    std::vector<std::uint8_t> mask(static_cast<std::size_t>(dims[0]) * dims[1] * dims[2]);
-    std::int64_t insideCount = 0;
-    if (!dg::SelectVoxels(scalars, dims, select, mask.data(), dims[0], 0, insideCount, error))
+    std::vector<std::uint8_t> mask;
+    if (!dg::SelectInside(scalars, select, dims, mask, error))
     {
-      vtkErrorMacro("Cannot select voxels in the source image: " << error << ".");
+      vtkErrorMacro(<< error);
       return 0;
     }
     kernel.SetVolume(mask.data(), dims, dims[0], 0);
     surfels.Build(mask.data(), dims, dims[0], 0);
   }
   kernel.SetRadius(radius);
-  dg::HoughAccumulator accumulator;
-  accumulator.Build(this->AccumulatorResolution);
+  // The accumulators' rotations and look-up tables, shared by all surfels.
+  dg::HoughTables tables;
+  tables.Build(this->AccumulatorResolution, this->NumberOfAccumulators,
+    static_cast<std::uint64_t>(this->Seed));
   dg::RHTParameters parameters;
   parameters.Radius = radius;
   parameters.Trials = this->NumberOfTrials;
@@ -202,7 +195,7 @@ int vtkRHTNormalEstimator::ExecutePiece(
   }
 
   double Minv[9];
-  dg::GridToWorldNormals(image, Minv);
+  dg::NormalToWorldMatrix(image, Minv);
   vtkNew<vtkDoubleArray> normals;
   normals->SetName("RHTNormals");
   normals->SetNumberOfComponents(3);
@@ -212,28 +205,20 @@ int vtkRHTNormalEstimator::ExecutePiece(
   std::atomic<vtkIdType> fallbacks(0), trivial(0), badSurfel(-1), notSelected(-1);
   const dg::RowRuns& runs = kernel.GetRuns();
   const std::vector<int>& vox = in.Voxels;
-  const std::vector<int>& dirs = in.Directions;
   vtkSMPThreadLocal<dg::RHTWorkspace> workspaces;
   auto work = [&](vtkIdType b, vtkIdType e) {
     dg::RHTWorkspace& ws = workspaces.Local();
     vtkIdType localFallbacks = 0, localTrivial = 0;
     for (vtkIdType s = b; s < e; ++s)
     {
-      const int i = vox[3 * s] - ext[0], j = vox[3 * s + 1] - ext[2], k = vox[3 * s + 2] - ext[4];
-      const int d = dirs[s];
-      if (d < 0 || d > 5 || i < 0 || j < 0 || k < 0 || i >= dims[0] || j >= dims[1] ||
-        k >= dims[2])
+      int ijk[3], d;
+      const dg::SurfelCheck check = dg::CheckSurfel(in, runs, s, ijk, d);
+      if (check != dg::SurfelCheck::Ok)
       {
-        badSurfel = s;
+        (check == dg::SurfelCheck::Bad ? badSurfel : notSelected) = s;
         continue;
       }
-      int o[3] = { i, j, k };
-      o[d / 2] += (d & 1) ? 1 : -1;
-      if (!runs.Inside(i, j, k) || runs.Inside(o[0], o[1], o[2]))
-      {
-        notSelected = s;
-        continue;
-      }
+      const int i = ijk[0], j = ijk[1], k = ijk[2];
       // The reference: from the barycentre of the ball's inside voxels to
       // the surfel centre (MATH.md section 6), the trivial normal when zero.
       const dg::IIMoments m = kernel.Moments(i, j, k, d);
@@ -255,20 +240,9 @@ int vtkRHTNormalEstimator::ExecutePiece(
       dg::RHTEstimate est;
       dg::EstimateRHT(ws.Points.data(), static_cast<int>(ws.Points.size() / 3), ref, parameters,
         dg::SurfelSeed(parameters.Seed, vox[3 * s], vox[3 * s + 1], vox[3 * s + 2], d),
-        accumulator, ws, est);
+        tables, ws, est);
       localFallbacks += est.Fallback;
-      double w[3];
-      len = 0;
-      for (int r = 0; r < 3; ++r)
-      {
-        w[r] = Minv[r] * est.Normal[0] + Minv[3 + r] * est.Normal[1] + Minv[6 + r] * est.Normal[2];
-        len += w[r] * w[r];
-      }
-      len = std::sqrt(len);
-      for (int r = 0; r < 3; ++r)
-      {
-        nrm[3 * s + r] = w[r] / len;
-      }
+      dg::NormalToWorld(Minv, est.Normal, nrm + 3 * s);
     }
     fallbacks += localFallbacks;
     trivial += localTrivial;
@@ -286,19 +260,12 @@ int vtkRHTNormalEstimator::ExecutePiece(
   }
   if (badSurfel >= 0)
   {
-    vtkErrorMacro("Surfel " << badSurfel.load()
-                            << " has an inside voxel outside the image extent or a direction "
-                               "outside 0..5: the surface does not belong to this image.");
+    vtkErrorMacro(<< dg::BadSurfelMessage(badSurfel.load()));
     return 0;
   }
   if (notSelected >= 0)
   {
-    const vtkIdType s = notSelected;
-    vtkErrorMacro("Surfel " << s << " (voxel " << vox[3 * s] << ", " << vox[3 * s + 1] << ", "
-                            << vox[3 * s + 2] << ", direction " << dirs[s]
-                            << ") does not separate an inside voxel from an outside one under "
-                               "this filter's selection: set the same selection (SelectionMode, "
-                               "thresholds, Label, array) as on vtkDigitalSurfaceFilter.");
+    vtkErrorMacro(<< dg::NotSelectedMessage(in, notSelected.load()));
     return 0;
   }
   this->NumberOfFallbacks = fallbacks;

@@ -23,17 +23,19 @@
  * c, in grid order. NumberOfTrials triplets of distinct points of N are drawn
  * uniformly (collinear triplets are redrawn, at most 10 x NumberOfTrials
  * draws); each gives its plane's unit normal in the hemisphere of the
- * reference. NumberOfAccumulators hemisphere accumulators, each turned by its
- * own random rotation, count the normals in about 2 k^2 bins of nearly equal
+ * reference. NumberOfAccumulators hemisphere accumulators, each turned by a
+ * random rotation (A distinct ones of a pool of 32 drawn from Seed alone and
+ * shared by all surfels, picked per surfel), count the normals in about 2 k^2 bins of nearly equal
  * area (k = AccumulatorResolution latitude bands); each accumulator's
  * estimate is the mean normal of its winning bin; the result is the
  * normalised mean of the estimates, oriented outward. Fewer than three
  * points, or no valid triplet: the reference direction (counted in
  * NumberOfFallbacks).
  *
- * Randomness: one generator per surfel, seeded from (Seed, the surfel's
- * inside voxel in image indices, its direction): the output does not depend
- * on the number of threads, the surfel order or the pieces.
+ * Randomness: the pool of rotations from Seed alone; one generator per
+ * surfel, seeded from (Seed, the surfel's inside voxel in image indices, its
+ * direction), picks its rotations and draws its triplets: the output does
+ * not depend on the number of threads, the surfel order or the pieces.
  *
  * Output: the input surface plus cell data "RHTNormals" (double, 3
  * components, unit, the active normals), in world orientation (the grid
@@ -131,7 +133,7 @@ public:
 
   ///@{
   /**
-   * Seed of the per-surfel generators, >= 0 (default 0).
+   * Seed of the rotation pool and of the per-surfel generators, >= 0 (default 0).
    */
   vtkSetClampMacro(Seed, int, 0, VTK_INT_MAX);
   vtkGetMacro(Seed, int);

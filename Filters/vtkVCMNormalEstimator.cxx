@@ -30,6 +30,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -67,17 +68,7 @@ vtkDataObject* vtkVCMNormalEstimator::GetSource()
 
 int vtkVCMNormalEstimator::FillInputPortInformation(int port, vtkInformation* info)
 {
-  if (port == 0)
-  {
-    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
-  }
-  else
-  {
-    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkImageData");
-    // Optional for the pipeline so that a missing image gets our own message.
-    info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
-  }
-  return 1;
+  return dg::FillEstimatorInputPort(port, info);
 }
 
 int vtkVCMNormalEstimator::Reach(vtkInformation* sourceInfo) const
@@ -127,15 +118,7 @@ vtkMTimeType vtkVCMNormalEstimator::GetMTime()
 int vtkVCMNormalEstimator::RequestData(
   vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  const int status = this->ExecutePiece(request, inputVector, outputVector);
-  // In a distributed run every piece stops when one fails: the later
-  // stages' collective steps would otherwise wait for it forever.
-  if (!dg::AllPiecesOk(outputVector->GetInformationObject(0), status != 0))
-  {
-    vtkPolyData::GetData(outputVector)->Initialize();
-    return 0;
-  }
-  return status;
+  return dg::FinishPiece(outputVector, this->ExecutePiece(request, inputVector, outputVector));
 }
 
 int vtkVCMNormalEstimator::ExecutePiece(
@@ -157,8 +140,7 @@ int vtkVCMNormalEstimator::ExecutePiece(
   }
   if (!image)
   {
-    vtkErrorMacro("No source image: give the vtkImageData the surface was extracted from with "
-                  "SetSourceConnection or SetSourceData (input port 1).");
+    vtkErrorMacro(<< dg::NoSourceImageMessage);
     return 0;
   }
   if (!(this->OffsetRadius > 0) || !std::isfinite(this->OffsetRadius) ||
@@ -188,35 +170,23 @@ int vtkVCMNormalEstimator::ExecutePiece(
     }
   }
   const vtkIdType nSurfels = surface->GetNumberOfCells();
-  const std::vector<int>& vox = on.Voxels;
-  const std::vector<int>& dirs = on.Directions;
   const int* ext = on.Extent;
   const int* whole = on.Whole;
   const int* dims = on.Dims;
-  const double* spacing = on.Spacing;
 
   // 2. Radii in voxels.
-  const bool isotropic = on.Isotropic;
   double R = this->OffsetRadius, r = this->ConvolutionRadius;
-  if (this->RadiusUnits == WORLD)
   {
-    if (!isotropic)
+    std::string error;
+    double radii[2] = { R, r };
+    if ((this->RadiusUnits == WORLD && !dg::RadiiToVoxels(on, radii, 2, error)) ||
+      !dg::RadiusFitsImage(on, "OffsetRadius", radii[0], error))
     {
-      vtkErrorMacro("Radii in world units need an isotropic spacing (the image has "
-        << spacing[0] << ", " << spacing[1] << ", " << spacing[2]
-        << "); give the radii in voxels instead.");
+      vtkErrorMacro(<< error);
       return 0;
     }
-    R /= std::abs(spacing[0]);
-    r /= std::abs(spacing[0]);
-  }
-  const int wholeDims[3] = { whole[1] - whole[0] + 1, whole[3] - whole[2] + 1, whole[5] - whole[4] + 1 };
-  const int maxDim = std::max({ wholeDims[0], wholeDims[1], wholeDims[2] });
-  if (R > maxDim)
-  {
-    vtkErrorMacro("OffsetRadius " << R << " voxels is larger than the image (" << wholeDims[0]
-                                  << " x " << wholeDims[1] << " x " << wholeDims[2] << " voxels).");
-    return 0;
+    R = radii[0];
+    r = radii[1];
   }
   const int reach = static_cast<int>(std::ceil(2 * R + r)) + 1;
   // A piece's image must hold every site the estimates read: a missing site
@@ -225,14 +195,11 @@ int vtkVCMNormalEstimator::ExecutePiece(
     int need[6];
     if (!dg::ImageHoldsReach(on, reach, need))
     {
-      vtkErrorMacro("The source image holds the voxels "
-        << ext[0] << ".." << ext[1] << ", " << ext[2] << ".." << ext[3] << ", " << ext[4] << ".."
-        << ext[5] << " but the estimates (R = " << R << ", r = " << r
-        << ") around these surfels read the surfels of " << need[0] << ".." << need[1] << ", "
-        << need[2] << ".." << need[3] << ", " << need[4] << ".." << need[5]
-        << " (2 R + r + 1 voxels around them): connect the surface filter and this filter to "
-           "the same image source, the surface directly to this filter's input, or give the "
-           "whole image.");
+      std::ostringstream reads;
+      reads << "the estimates (R = " << R << ", r = " << r
+            << ") around these surfels read the surfels of";
+      vtkErrorMacro(
+        << dg::MissingReachMessage(on, need, reads.str(), " (2 R + r + 1 voxels around them)"));
       return 0;
     }
   }
@@ -246,12 +213,11 @@ int vtkVCMNormalEstimator::ExecutePiece(
       this->GetInputArrayInformation(0), image);
     const dg::VoxelSelection select{ this->SelectionMode, this->LowerThreshold,
       this->UpperThreshold, this->Label, this->SelectedComponent };
-    std::vector<std::uint8_t> mask(static_cast<std::size_t>(dims[0]) * dims[1] * dims[2]);
-    std::int64_t insideCount = 0;
+    std::vector<std::uint8_t> mask;
     std::string error;
-    if (!dg::SelectVoxels(scalars, dims, select, mask.data(), dims[0], 0, insideCount, error))
+    if (!dg::SelectInside(scalars, select, dims, mask, error))
     {
-      vtkErrorMacro("Cannot select voxels in the source image: " << error << ".");
+      vtkErrorMacro(<< error);
       return 0;
     }
     kernel.SetVolume(mask.data(), dims, dims[0], 0);
@@ -315,21 +281,14 @@ int vtkVCMNormalEstimator::ExecutePiece(
     vtkIdType localFallbacks = 0;
     for (vtkIdType s = b; s < e; ++s)
     {
-      const int i = vox[3 * s] - ext[0], j = vox[3 * s + 1] - ext[2], k = vox[3 * s + 2] - ext[4];
-      const int d = dirs[s];
-      if (d < 0 || d > 5 || i < 0 || j < 0 || k < 0 || i >= dims[0] || j >= dims[1] ||
-        k >= dims[2])
+      int ijk[3], d;
+      const dg::SurfelCheck check = dg::CheckSurfel(on, runs, s, ijk, d);
+      if (check != dg::SurfelCheck::Ok)
       {
-        badSurfel = s;
+        (check == dg::SurfelCheck::Bad ? badSurfel : notSelected) = s;
         continue;
       }
-      int o[3] = { i, j, k };
-      o[d / 2] += (d & 1) ? 1 : -1;
-      if (!runs.Inside(i, j, k) || runs.Inside(o[0], o[1], o[2]))
-      {
-        notSelected = s;
-        continue;
-      }
+      const int i = ijk[0], j = ijk[1], k = ijk[2];
       const std::int32_t v[3] = { i, j, k };
       std::int64_t measure[6];
       vcm.Convolve(v, d, r, measure);
