@@ -240,36 +240,66 @@ IIMoments HalfBallMoments(const BallRows& ball, const double n[3])
   return m;
 }
 
-void BallRows::Build(double radius, int axis)
+namespace
+{
+// 4 r^2 - (s_y u_y)^2 - (s_z u_z)^2: what is left of the ball's radius for
+// the x part of a row, in doubled coordinates. With s = 1 this is the exact
+// integer test u.u <= 4 r^2 (4 (r * r) is exact, and so are the squares).
+inline double RowRemainder(double radius, const double s[3], std::int64_t uy, std::int64_t uz)
+{
+  const double ry = s[1] * static_cast<double>(uy), rz = s[2] * static_cast<double>(uz);
+  return 4.0 * (radius * radius) - (ry * ry + rz * rz);
+}
+inline bool XInRow(const double s[3], std::int64_t ux, double rem)
+{
+  const double rx = s[0] * static_cast<double>(ux);
+  return rx * rx <= rem;
+}
+const double UnitScale[3] = { 1, 1, 1 };
+} // namespace
+
+bool BallRows::Contains(
+  double radius, const double scale[3], std::int64_t ux, std::int64_t uy, std::int64_t uz)
+{
+  const double* s = scale ? scale : UnitScale;
+  const double rem = RowRemainder(radius, s, uy, uz);
+  return rem >= 0 && XInRow(s, ux, rem);
+}
+
+void BallRows::Build(double radius, int axis, const double* scale)
 {
   this->Axis = axis;
   this->Rows.clear();
   this->Voxels = 0;
   this->TangentMoment = 0.0;
-  // u = 2 (p - c) = 2 d - e_axis is an integer vector and the ball test
-  // u.u <= 4 r^2 compares exact integers with 4 (r * r): the same test as
-  // |p - c|^2 <= r^2 evaluated in double (scaling by 4 is exact).
-  const double r4 = 4.0 * (radius * radius);
+  const double* s = scale ? scale : UnitScale;
+  std::copy(s, s + 3, this->Scale);
+  this->Scaled = s[0] != 1.0 || s[1] != 1.0 || s[2] != 1.0;
+  std::fill(this->AxisMoment, this->AxisMoment + 3, 0.0);
   const int o[3] = { axis == 0, axis == 1, axis == 2 };
-  const int reach = static_cast<int>(std::ceil(radius)) + 1;
-  for (int dz = -reach; dz <= reach; ++dz)
+  int reach[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    reach[a] = static_cast<int>(std::ceil(radius / s[a])) + 1;
+  }
+  for (int dz = -reach[2]; dz <= reach[2]; ++dz)
   {
     const std::int64_t uz = 2 * dz - o[2];
-    for (int dy = -reach; dy <= reach; ++dy)
+    for (int dy = -reach[1]; dy <= reach[1]; ++dy)
     {
       const std::int64_t uy = 2 * dy - o[1];
-      const double rem = r4 - static_cast<double>(uy * uy + uz * uz);
+      const double rem = RowRemainder(radius, s, uy, uz);
       if (rem < 0)
       {
         continue;
       }
-      // Largest m with m^2 <= rem, exactly.
-      std::int64_t m = static_cast<std::int64_t>(std::sqrt(rem));
-      while (static_cast<double>((m + 1) * (m + 1)) <= rem)
+      // Largest m with (s_x m)^2 <= rem, by the same test as Contains.
+      std::int64_t m = static_cast<std::int64_t>(std::sqrt(rem) / s[0]);
+      while (XInRow(s, m + 1, rem))
       {
         ++m;
       }
-      while (m > 0 && static_cast<double>(m * m) > rem)
+      while (m > 0 && !XInRow(s, m, rem))
       {
         --m;
       }
@@ -294,15 +324,22 @@ void BallRows::Build(double radius, int axis)
       this->MinX = std::min(this->MinX, static_cast<int>(x0));
       this->MaxX = std::max(this->MaxX, static_cast<int>(x1));
       this->Rows.push_back({ dy, dz, static_cast<int>(x0), static_cast<int>(x1), uy, uz });
-      this->Voxels += x1 - x0 + 1;
+      const std::int64_t c = x1 - x0 + 1;
+      this->Voxels += c;
+      // Sum of (2 x - o)^2 over the row, exactly.
+      const std::int64_t sxx =
+        4 * SumXX(x0, x1 + 1) - 4 * o[0] * SumX(x0, x1 + 1) + o[0] * o[0] * c;
+      this->AxisMoment[0] += 0.25 * s[0] * s[0] * static_cast<double>(sxx);
+      this->AxisMoment[1] += 0.25 * s[1] * s[1] * static_cast<double>(uy * uy * c);
+      this->AxisMoment[2] += 0.25 * s[2] * s[2] * static_cast<double>(uz * uz * c);
       // Tangent axis (axis + 1) % 3: y for axis x, z for axis y, x for axis z.
       if (axis == 0)
       {
-        this->TangentMoment += 0.25 * static_cast<double>(uy * uy * (x1 - x0 + 1));
+        this->TangentMoment += 0.25 * static_cast<double>(uy * uy * c);
       }
       else if (axis == 1)
       {
-        this->TangentMoment += 0.25 * static_cast<double>(uz * uz * (x1 - x0 + 1));
+        this->TangentMoment += 0.25 * static_cast<double>(uz * uz * c);
       }
       else
       {
@@ -322,12 +359,12 @@ void IntegralInvariantKernel::SetVolume(
   this->Runs.Build(mask, dims, rowStride, rowOffset);
 }
 
-void IntegralInvariantKernel::SetRadius(double radius)
+void IntegralInvariantKernel::SetRadius(double radius, const double* scale)
 {
   this->Radius = radius;
   for (int a = 0; a < 3; ++a)
   {
-    this->Balls[a].Build(radius, a);
+    this->Balls[a].Build(radius, a, scale);
   }
 }
 
@@ -457,16 +494,16 @@ namespace
 {
 template <typename Visit>
 void VisitBall(const std::uint8_t* mask, const int dims[3], double radius, int i, int j, int k,
-  int direction, Visit&& visit)
+  int direction, const double* scale, Visit&& visit)
 {
   const int axis = direction / 2;
   double c[3] = { double(i), double(j), double(k) };
   c[axis] += (direction & 1) ? 0.5 : -0.5;
-  const int reach = static_cast<int>(std::ceil(radius)) + 1;
   const int v[3] = { i, j, k };
   int lo[3], hi[3];
   for (int a = 0; a < 3; ++a)
   {
+    const int reach = static_cast<int>(std::ceil(radius / (scale ? scale[a] : 1.0))) + 1;
     lo[a] = std::max(v[a] - reach, 0);
     hi[a] = std::min(v[a] + reach, dims[a] - 1);
   }
@@ -475,7 +512,8 @@ void VisitBall(const std::uint8_t* mask, const int dims[3], double radius, int i
       for (int x = lo[0]; x <= hi[0]; ++x)
       {
         const double d[3] = { x - c[0], y - c[1], z - c[2] };
-        if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > radius * radius)
+        if (!BallRows::Contains(radius, scale, std::llround(2 * d[0]), std::llround(2 * d[1]),
+              std::llround(2 * d[2])))
         {
           continue;
         }
@@ -488,10 +526,10 @@ void VisitBall(const std::uint8_t* mask, const int dims[3], double radius, int i
 } // namespace
 
 IIMoments BruteForceMoments(const std::uint8_t* mask, const int dims[3], double radius, int i,
-  int j, int k, int direction)
+  int j, int k, int direction, const double* scale)
 {
   IIMoments m;
-  VisitBall(mask, dims, radius, i, j, k, direction, [&](const double d[3]) {
+  VisitBall(mask, dims, radius, i, j, k, direction, scale, [&](const double d[3]) {
     const std::int64_t u[3] = { std::llround(2 * d[0]), std::llround(2 * d[1]),
       std::llround(2 * d[2]) };
     ++m.Count;
@@ -510,11 +548,11 @@ IIMoments BruteForceMoments(const std::uint8_t* mask, const int dims[3], double 
 }
 
 void BruteForceCovariance(const std::uint8_t* mask, const int dims[3], double radius, int i, int j,
-  int k, int direction, double cov[9], std::int64_t& count)
+  int k, int direction, double cov[9], std::int64_t& count, const double* scale)
 {
   double b[3] = { 0, 0, 0 };
   count = 0;
-  VisitBall(mask, dims, radius, i, j, k, direction, [&](const double d[3]) {
+  VisitBall(mask, dims, radius, i, j, k, direction, scale, [&](const double d[3]) {
     ++count;
     for (int a = 0; a < 3; ++a)
     {
@@ -530,7 +568,7 @@ void BruteForceCovariance(const std::uint8_t* mask, const int dims[3], double ra
   {
     x /= static_cast<double>(count);
   }
-  VisitBall(mask, dims, radius, i, j, k, direction, [&](const double d[3]) {
+  VisitBall(mask, dims, radius, i, j, k, direction, scale, [&](const double d[3]) {
     for (int a = 0; a < 3; ++a)
       for (int c = 0; c < 3; ++c)
       {
@@ -547,7 +585,18 @@ void EstimateFromMoments(const IIMoments& m, int direction, double radius, bool 
   const double sign = (direction & 1) ? 1.0 : -1.0;
   double cov[9], offset[3];
   m.Covariance(cov, offset);
-  const Eigen::Matrix3d C = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(cov);
+  // On a scaled grid everything below runs in the scaled frame q = S p
+  // (S = diag(scale)), where the ball is Euclidean: covariance S C S, first
+  // moments S Sum, each voxel a cell of volume det S.
+  const bool scaled = ball && ball->Scaled;
+  const Eigen::Vector3d S = scaled ? Eigen::Vector3d(ball->Scale[0], ball->Scale[1], ball->Scale[2])
+                                   : Eigen::Vector3d::Ones();
+  const double cell = scaled ? S.prod() : 1.0;
+  Eigen::Matrix3d C = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(cov);
+  if (scaled)
+  {
+    C = cell * (S.asDiagonal() * C * S.asDiagonal()).eval();
+  }
   // Closed-form 3x3 solver: about 5x faster than the iterative one; the
   // normal's eigenvalue is well separated from the others (0.059 r^2 vs
   // 0.2 r^2 per voxel for a plane), where it is accurate.
@@ -569,8 +618,12 @@ void EstimateFromMoments(const IIMoments& m, int direction, double radius, bool 
     // Outward: from the barycentre b to the centre c, i.e. along -(b - c).
     // Sum is the exact integer 2 N (b - c): zero or perpendicular to n means
     // the ball gives no side, and only then the surfel's axis decides.
-    const Eigen::Vector3d s(
+    Eigen::Vector3d s(
       static_cast<double>(m.Sum[0]), static_cast<double>(m.Sum[1]), static_cast<double>(m.Sum[2]));
+    if (scaled)
+    {
+      s = S.cwiseProduct(s);
+    }
     const double side = -n.dot(s);
     if (std::abs(side) > 1e-9 * s.norm())
     {
@@ -588,9 +641,11 @@ void EstimateFromMoments(const IIMoments& m, int direction, double radius, bool 
       }
     }
   }
+  // A covector of the scaled frame is S times the grid's (n . dq = n . S dp).
+  const Eigen::Vector3d ng = scaled ? S.cwiseProduct(n).normalized() : n;
   for (int a = 0; a < 3; ++a)
   {
-    out.Normal[a] = n[a];
+    out.Normal[a] = ng[a];
   }
   if (!curvatures)
   {
@@ -611,20 +666,37 @@ void EstimateFromMoments(const IIMoments& m, int direction, double radius, bool 
   }
   else if (reference == IICurvatureReference::DigitalBall)
   {
-    vol = 0.5 * static_cast<double>(ball->Voxels);
-    J1 = J2 = 0.5 * ball->TangentMoment;
+    vol = 0.5 * static_cast<double>(ball->Voxels) * cell;
+    if (scaled)
+    {
+      // The half ball cut across the surfel's axis: half of the ball's
+      // (diagonal) second moments, read along each eigenvector.
+      const Eigen::Vector3d Q(ball->AxisMoment[0], ball->AxisMoment[1], ball->AxisMoment[2]);
+      J1 = 0.5 * cell * V.col(1).cwiseAbs2().dot(Q);
+      J2 = 0.5 * cell * V.col(2).cwiseAbs2().dot(Q);
+    }
+    else
+    {
+      J1 = J2 = 0.5 * ball->TangentMoment;
+    }
   }
   else
   {
+    // HalfBallMoments takes the half-space in grid coordinates: the grid
+    // covector ng gives the same plane as n in the scaled frame.
     const IIMoments half = HalfBallMoments(*ball, out.Normal);
     double hc[9], ho[3];
     half.Covariance(hc, ho);
-    const Eigen::Matrix3d ref = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(hc);
-    vol = static_cast<double>(half.Count);
+    Eigen::Matrix3d ref = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(hc);
+    if (scaled)
+    {
+      ref = cell * (S.asDiagonal() * ref * S.asDiagonal()).eval();
+    }
+    vol = static_cast<double>(half.Count) * cell;
     J1 = V.col(1).dot(ref * V.col(1));
     J2 = V.col(2).dot(ref * V.col(2));
   }
-  out.Mean = 4.0 / (pi * r4) * (vol - static_cast<double>(m.Count));
+  out.Mean = 4.0 / (pi * r4) * (vol - static_cast<double>(m.Count) * cell);
   const double a1 = mu[1] - J1, a2 = mu[2] - J2;
   out.K1 = 6.0 / (pi * r6) * (a2 - 3.0 * a1);
   out.K2 = 6.0 / (pi * r6) * (a1 - 3.0 * a2);
@@ -641,10 +713,14 @@ void EstimateFromMoments(const IIMoments& m, int direction, double radius, bool 
   {
     std::swap(out.K1, out.K2);
   }
+  // A vector of the scaled frame is S^-1 times the grid's.
+  const Eigen::Vector3d d1 = scaled ? V.col(e1).cwiseQuotient(S).normalized() : V.col(e1).eval();
+  const Eigen::Vector3d d2 =
+    scaled ? V.col(3 - e1).cwiseQuotient(S).normalized() : V.col(3 - e1).eval();
   for (int a = 0; a < 3; ++a)
   {
-    out.Direction1[a] = V(a, e1);
-    out.Direction2[a] = V(a, 3 - e1);
+    out.Direction1[a] = d1[a];
+    out.Direction2[a] = d2[a];
   }
 }
 

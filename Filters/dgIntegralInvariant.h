@@ -24,6 +24,16 @@
 // (c is a half-integer along one axis), so the moments are exact; the
 // covariance is formed in double from exact integers, relative to the
 // surfel centre, so there is no cancellation from large absolute positions.
+//
+// Anisotropic voxels (docs/curvatures.md, "Anisotropic spacing"): with a
+// scale s (the spacing divided by its smallest component) the ball is
+// |diag(s) (p - c)| <= r, a ball of world space and an ellipsoid of index
+// space. It is still a list of x-rows, so the sums stay exact integers in
+// index coordinates; EstimateFromMoments maps them to the scaled frame
+// (covariance S C S, volumes times s_x s_y s_z), where the formulas of
+// MATH.md section 6 hold unchanged, and returns the normal as a grid
+// covector and the principal directions as grid vectors, as in the
+// isotropic case. With s = (1, 1, 1) every result is bitwise the old one.
 #ifndef dgIntegralInvariant_h
 #define dgIntegralInvariant_h
 
@@ -74,7 +84,13 @@ class BallRows
 {
 public:
   /// axis: the surfel's axis (its centre is lower voxel + 0.5 e_axis).
-  void Build(double radius, int axis);
+  /// scale: per-axis weights of the ball's metric, |diag(scale) (p - c)| <= radius
+  /// (null: all 1, the Euclidean ball of the grid).
+  void Build(double radius, int axis, const double* scale = nullptr);
+  /// The ball test in doubled coordinates u = 2 (p - c), the same
+  /// arithmetic as Build's rows (so that references agree to the voxel).
+  static bool Contains(double radius, const double scale[3], std::int64_t ux, std::int64_t uy,
+    std::int64_t uz);
   struct Row
   {
     int Dy, Dz;          // row offset from the lower voxel
@@ -88,6 +104,12 @@ public:
   /// Second moment of the ball's voxel centres along one axis tangent to the
   /// surfel, sum of (p_t - c_t)^2 (the same for both tangent axes).
   double TangentMoment = 0.0;
+  double Scale[3] = { 1, 1, 1 };
+  bool Scaled = false; // Scale is not (1, 1, 1)
+  /// Second moments of the ball's voxel centres along each axis in the
+  /// scaled frame, sum of (scale_a (p_a - c_a))^2 (the digital ball reference
+  /// of an anisotropic grid).
+  double AxisMoment[3] = { 0, 0, 0 };
 };
 
 /// The zero-curvature reference of the curvature formulas: the volume of
@@ -119,7 +141,8 @@ class IntegralInvariantKernel
 {
 public:
   void SetVolume(const std::uint8_t* mask, const int dims[3], std::int64_t rowStride, int rowOffset);
-  void SetRadius(double radius);
+  /// scale: see BallRows::Build (null: isotropic).
+  void SetRadius(double radius, const double* scale = nullptr);
   double GetRadius() const { return this->Radius; }
   const RowRuns& GetRuns() const { return this->Runs; }
   const BallRows& GetBall(int axis) const { return this->Balls[axis]; }
@@ -137,13 +160,18 @@ private:
 
 /// Reference: visits every voxel of the ball's bounding box. For tests.
 IIMoments BruteForceMoments(const std::uint8_t* mask, const int dims[3], double radius, int i,
-  int j, int k, int direction);
+  int j, int k, int direction, const double* scale = nullptr);
 /// Reference covariance computed in double, two passes (barycentre, then
 /// sum of (p - b)(p - b)^T). For tests.
 void BruteForceCovariance(const std::uint8_t* mask, const int dims[3], double radius, int i, int j,
-  int k, int direction, double cov[9], std::int64_t& count);
+  int k, int direction, double cov[9], std::int64_t& count, const double* scale = nullptr);
 
-/// What the II estimator derives from the moments (grid units).
+/// What the II estimator derives from the moments: curvatures in the units
+/// of the radius (grid units, or units of the smallest spacing on a scaled
+/// grid); Normal is a unit grid covector (world normal: M^-T Normal
+/// normalised, M = direction * diag(spacing)), Direction1/2 unit grid
+/// vectors (world: M Direction normalised). With an isotropic grid these
+/// are the plain grid-frame normal and directions.
 struct IIEstimate
 {
   double Normal[3];
@@ -159,7 +187,8 @@ struct IIEstimate
 /// perpendicular to the eigenvector; the whole normal falls back when the
 /// covariance is degenerate (fewer than two non-zero eigenvalues).
 /// ball: the kernel's ball for the surfel's axis; required unless the
-/// reference is Continuous.
+/// reference is Continuous, and its Scale is used (the grid is isotropic
+/// without a ball).
 void EstimateFromMoments(const IIMoments& m, int direction, double radius, bool curvatures,
   IIEstimate& out, IICurvatureReference reference = IICurvatureReference::Continuous,
   const BallRows* ball = nullptr);

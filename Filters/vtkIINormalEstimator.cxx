@@ -138,23 +138,34 @@ int vtkIINormalEstimator::ExecutePiece(
   const int* dims = on.Dims;
   const double* spacing = on.Spacing;
 
-  // 2. Radius in voxels.
+  // 2. Radius in voxels: of the smallest spacing when the spacing is
+  // anisotropic, where the ball is a ball of world space (an ellipsoid of
+  // index space, scale = spacing / smallest spacing).
   const bool isotropic = on.Isotropic;
+  const double sMin = std::min({ std::abs(spacing[0]), std::abs(spacing[1]), std::abs(spacing[2]) });
+  double scaleStorage[3];
+  const double* scale = nullptr;
+  if (!isotropic)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      scaleStorage[a] = std::abs(spacing[a]) / sMin;
+    }
+    scale = scaleStorage;
+  }
   double radius = this->Radius;
   if (this->RadiusUnits == WORLD)
   {
     std::string error;
-    if (!dg::RadiiToVoxels(on, &radius, 1, error))
+    if (isotropic && !dg::RadiiToVoxels(on, &radius, 1, error))
     {
       vtkErrorMacro(<< error);
       return 0;
     }
-  }
-  if (this->ComputeCurvatures && !isotropic)
-  {
-    vtkErrorMacro("Curvatures need an isotropic spacing (the image has "
-      << spacing[0] << ", " << spacing[1] << ", " << spacing[2] << ").");
-    return 0;
+    if (!isotropic)
+    {
+      radius /= sMin;
+    }
   }
   // A piece's image must hold every ball: a cropped ball would be a wrong
   // normal without a word.
@@ -192,7 +203,7 @@ int vtkIINormalEstimator::ExecutePiece(
     }
     kernel.SetVolume(mask.data(), dims, dims[0], 0);
   }
-  kernel.SetRadius(radius);
+  kernel.SetRadius(radius, scale);
   this->UpdateProgress(0.1);
   if (this->GetAbortExecute())
   {
@@ -211,7 +222,7 @@ int vtkIINormalEstimator::ExecutePiece(
       }
     vtkMatrix3x3::Invert(M, Minv);
   }
-  const double curvatureScale = 1.0 / std::abs(spacing[0]);
+  const double curvatureScale = 1.0 / (isotropic ? std::abs(spacing[0]) : sMin);
 
   const bool curv = this->ComputeCurvatures;
   vtkNew<vtkDoubleArray> normals;

@@ -27,22 +27,27 @@
  * Output: the input surface plus cell data "IINormals" (double, 3
  * components, unit length, set as the active normals), in world orientation:
  * the grid-space normal n goes through the inverse transpose of the image's
- * index-to-world matrix (direction * diag(spacing)), so anisotropic spacing
- * and a non-identity direction matrix are handled. The trivial "Normals"
- * array stays as an ordinary array.
+ * index-to-world matrix (direction * diag(spacing)), so a non-identity
+ * direction matrix (det -1 too) is handled. The trivial "Normals" array
+ * stays as an ordinary array.
  *
  * With ComputeCurvatures on (off by default): "IIMeanCurvature",
  * "IIGaussianCurvature", "IIK1", "IIK2" (k1 >= k2, 1 / world length; convex
  * is positive) and "IIK1Direction", "IIK2Direction" (the tangent directions
  * of k1 and k2: unit, world, sign arbitrary; k1's is the eigenvector of the
  * smaller tangent eigenvalue of the covariance, which MATH.md section 6 pairs
- * the other way: see dgIntegralInvariant.cxx). Curvatures need an isotropic
- * spacing.
+ * the other way: see dgIntegralInvariant.cxx).
  *
  * Radius: in voxels (RadiusUnits VOXELS, default, Radius 3) or in world
- * units (WORLD: divided by the spacing, which must then be isotropic). The
- * ball is in voxel space. The radius must be positive and not larger than the
- * image's largest dimension.
+ * units (WORLD). The ball is a ball of world space: with an isotropic
+ * spacing, the digital ball of that radius in voxels; with an anisotropic
+ * one (CT at 0.7 x 0.7 x 2.5 mm), an ellipsoid of index space whose world
+ * radius is Radius in world units, or Radius times the smallest spacing in
+ * voxels. The sums stay exact (rows of that ellipsoid, prefix sums) and the
+ * covariance is formed in world lengths, so normals and curvatures are
+ * those of the world shape at any spacing (docs/curvatures.md,
+ * "Anisotropic spacing"). The radius must be positive and, in voxels, not
+ * larger than the image's largest dimension.
  *
  * Cost: the image is stored as runs of inside voxels along x (memory about
  * 32 bytes per run plus 8 bytes per x-row; a 1-byte mask of the image exists
@@ -111,7 +116,7 @@ public:
 
   ///@{
   /**
-   * Units of Radius: VOXELS (default) or WORLD (isotropic spacing required).
+   * Units of Radius: VOXELS (default; of the smallest spacing) or WORLD.
    */
   vtkSetClampMacro(RadiusUnits, int, VOXELS, WORLD);
   vtkGetMacro(RadiusUnits, int);
