@@ -124,6 +124,7 @@ void Pipeline::Build(vtkImageData* image, vtkAlgorithmOutput* source, const Pipe
     a->SetFeatureThreshold(s.FeatureThreshold);
     a->SetLinearSolver(s.Solver);
     a->SetSolverTolerance(s.SolverTolerance);
+    a->SetMetric(s.Metric);
   };
   // AT reads the active cell normals: the estimator's.
   this->AT->SetInputConnection(estimator->GetOutputPort());

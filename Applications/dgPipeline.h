@@ -57,6 +57,7 @@ struct PipelineSettings
   int Iterations = 5;
   double Tolerance = 1e-4, FeatureThreshold = 0.5;
   int Solver = vtkAmbrosioTortorelliFilter::CONJUGATE_GRADIENT_IC;
+  int Metric = vtkAmbrosioTortorelliFilter::METRIC_GRID;
   // CG's relative residual (the filter's default).
   double SolverTolerance = 1e-5;
   // One line per sharp edge and side normals (vtkSharpFeaturesFilter); off

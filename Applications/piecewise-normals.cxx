@@ -95,7 +95,7 @@ Input normals
   --rht-radius r         RHT neighbourhood radius (default 6, the paper's)
   --rht-trials N         RHT triplets per surfel (default 648, the paper's; --seed
                          seeds them)
-Ambrosio-Tortorelli (lengths in voxels: the metric is the identity)
+Ambrosio-Tortorelli (lengths in voxels unless --at-metric world)
   --alpha A              data attachment weight (default 0.05, the paper's Fig. 5;
                          larger = closer to the input)
   --lambda L             length penalty of the features (default 0.005, half the
@@ -109,6 +109,10 @@ Ambrosio-Tortorelli (lengths in voxels: the metric is the identity)
   --feature-threshold T  an edge is a feature when v < T at both ends (default 0.5)
   --solver S             linear solver: ic (default; CG with incomplete Cholesky),
                          cg (CG with Jacobi), ldlt (exact, 5-7x slower), cholmod
+  --at-metric M          grid (default, the paper's: eps in voxels, every face
+                         weighs 1) or world (eps in world lengths, lambda per
+                         world length, alpha per world area: the same result at
+                         every resolution and spacing; docs/at-metric.md)
   --solver-tolerance T   CG's relative residual (default 1e-5; 1e-8 makes the
                          result independent of the preconditioner's blocks, e.g.
                          of the number of processes, at about twice AT's time)
@@ -293,6 +297,16 @@ Options ParseOptions(int argc, char* argv[])
         o.P.Solver = vtkAmbrosioTortorelliFilter::CHOLMOD;
       else
         OptionError("--solver expects ic, cg, ldlt or cholmod (got '" + v + "')");
+    }
+    else if (arg == "--at-metric")
+    {
+      const std::string v = value();
+      if (v == "grid")
+        o.P.Metric = vtkAmbrosioTortorelliFilter::METRIC_GRID;
+      else if (v == "world")
+        o.P.Metric = vtkAmbrosioTortorelliFilter::METRIC_WORLD;
+      else
+        OptionError("--at-metric expects grid or world (got '" + v + "')");
     }
     else if (arg == "--solver-tolerance")
       o.P.SolverTolerance = number();

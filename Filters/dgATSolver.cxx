@@ -97,7 +97,13 @@ void ATSolver::Initialize(const Eigen::MatrixXd& field)
   this->g = field;
   this->u = field;
   this->URhs = this->Params.Alpha * field;
+  if (this->Metric)
+  {
+    const Eigen::Map<const Eigen::VectorXd> area(this->Metric->FaceArea.data(), field.rows());
+    this->URhs = this->URhs.array().colwise() * area.array();
+  }
   this->v = Eigen::VectorXd::Ones(this->Complex.NumberOfVertices());
+  this->VRhs.resize(0, 0);
 }
 
 void ATSolver::AssembleU()
@@ -107,6 +113,8 @@ void ATSolver::AssembleU()
   // w(e) = ((M v)_e)^2, the weight of edge e in B^T diag(Mv)^2 B.
   std::vector<double>& w = this->EdgeWork;
   w.resize(ne);
+  const double* ratio = this->Metric ? this->Metric->EdgeRatio.data() : nullptr;
+  const double* faceArea = this->Metric ? this->Metric->FaceArea.data() : nullptr;
   ForBlocks(ne,
     [&](std::int64_t, std::int64_t e0, std::int64_t e1)
     {
@@ -114,7 +122,7 @@ void ATSolver::AssembleU()
       {
         const double m =
           0.5 * (this->v[K.EdgeVertices[2 * e]] + this->v[K.EdgeVertices[2 * e + 1]]);
-        w[e] = m * m;
+        w[e] = ratio ? ratio[e] * (m * m) : m * m;
       }
     });
   const int* outer = this->UM.outerIndexPtr();
@@ -134,7 +142,7 @@ void ATSolver::AssembleU()
           }
           val[k] = s;
         }
-        val[K.UDiagonal[f]] += alpha;
+        val[K.UDiagonal[f]] += faceArea ? alpha * faceArea[f] : alpha;
       }
     });
 }
@@ -147,6 +155,8 @@ void ATSolver::AssembleV(double epsilon)
   // q(e) = sum_i ((B u_i)_e)^2: the squared jump of u across edge e.
   std::vector<double>& q = this->EdgeWork;
   q.resize(ne);
+  const double* ratio = this->Metric ? this->Metric->EdgeRatio.data() : nullptr;
+  const double* vertexArea = this->Metric ? this->Metric->VertexArea.data() : nullptr;
   ForBlocks(ne,
     [&](std::int64_t, std::int64_t e0, std::int64_t e1)
     {
@@ -163,7 +173,7 @@ void ATSolver::AssembleV(double epsilon)
           }
           s += d * d;
         }
-        q[e] = s;
+        q[e] = ratio ? ratio[e] * s : s;
       }
     });
   const double lambda = this->Params.Lambda;
@@ -180,9 +190,9 @@ void ATSolver::AssembleV(double epsilon)
           const int e = K.VEdge[k];
           if (e >= 0)
           {
-            val[k] = -lapl + 0.25 * q[e];
+            val[k] = (ratio ? -lapl / ratio[e] : -lapl) + 0.25 * q[e];
           }
-          else
+          else if (!ratio)
           {
             double s = 0;
             for (std::int64_t j = K.VertexEdgePtr[a]; j < K.VertexEdgePtr[a + 1]; ++j)
@@ -190,6 +200,17 @@ void ATSolver::AssembleV(double epsilon)
               s += q[K.VertexEdges[j]];
             }
             val[k] = diagConst + lapl * (K.VertexEdgePtr[a + 1] - K.VertexEdgePtr[a]) + 0.25 * s;
+          }
+          else
+          {
+            // The world metric: dual area, Laplacian weights |e*| / |e|.
+            double s = 0, l = 0;
+            for (std::int64_t j = K.VertexEdgePtr[a]; j < K.VertexEdgePtr[a + 1]; ++j)
+            {
+              s += q[K.VertexEdges[j]];
+              l += 1.0 / ratio[K.VertexEdges[j]];
+            }
+            val[k] = diagConst * vertexArea[a] + lapl * l + 0.25 * s;
           }
         }
       }
@@ -267,9 +288,15 @@ bool ATSolver::StepV(double epsilon)
   this->AssembleV(epsilon);
   this->Stats.Assembly += Seconds(t0);
   const double rhs = this->Params.Lambda / (4 * epsilon);
-  if (this->VRhs.rows() != this->v.size() || this->VRhs.size() == 0 || this->VRhs(0, 0) != rhs)
+  if (this->VRhs.rows() != this->v.size() || this->VRhs.size() == 0 || this->VRhsEpsilon != epsilon)
   {
     this->VRhs.setConstant(this->v.size(), 1, rhs);
+    if (this->Metric)
+    {
+      this->VRhs.col(0).array() *=
+        Eigen::Map<const Eigen::ArrayXd>(this->Metric->VertexArea.data(), this->v.size());
+    }
+    this->VRhsEpsilon = epsilon;
   }
   this->VX = this->v;
   const bool ok = this->SolveSystem(*this->VSystem, this->VM, this->VRhs, this->VX, "v-step");
@@ -296,7 +323,8 @@ double ATSolver::Energy(double epsilon) const
         double s = 0;
         for (std::int64_t f = f0; f < f1; ++f)
         {
-          s += (this->u.row(f) - this->g.row(f)).squaredNorm();
+          const double d = (this->u.row(f) - this->g.row(f)).squaredNorm();
+          s += this->Metric ? this->Metric->FaceArea[f] * d : d;
         }
         part[b] = s;
       });
@@ -315,6 +343,7 @@ double ATSolver::Energy(double epsilon) const
         {
           const double va = this->v[K.EdgeVertices[2 * e]], vb = this->v[K.EdgeVertices[2 * e + 1]];
           const double m = 0.5 * (va + vb);
+          const double r = this->Metric ? this->Metric->EdgeRatio[e] : 1.0;
           for (int c = 0; c < nc && K.EdgeFacePtr[e + 1] - K.EdgeFacePtr[e] > 1; ++c)
           {
             double d = 0;
@@ -322,9 +351,9 @@ double ATSolver::Energy(double epsilon) const
             {
               d += K.EdgeFaceSigns[i] * this->u(K.EdgeFaces[i], c);
             }
-            s += m * m * d * d;
+            s += r * m * m * d * d;
           }
-          s += lambda * epsilon * (vb - va) * (vb - va);
+          s += lambda * epsilon * (vb - va) * (vb - va) / r;
         }
         part[b] = s;
       });
@@ -341,7 +370,8 @@ double ATSolver::Energy(double epsilon) const
         double s = 0;
         for (std::int64_t a = a0; a < a1; ++a)
         {
-          s += (1 - this->v[a]) * (1 - this->v[a]);
+          const double d = (1 - this->v[a]) * (1 - this->v[a]);
+          s += this->Metric ? this->Metric->VertexArea[a] * d : d;
         }
         part[b] = s;
       });
@@ -375,6 +405,14 @@ bool ATSolver::Run(const Eigen::MatrixXd& field, const ATProgressCallback& progr
   this->ErrorText = this->Params.Check();
   if (!this->ErrorText.empty())
   {
+    return false;
+  }
+  if (this->Metric &&
+    (static_cast<std::int64_t>(this->Metric->FaceArea.size()) != this->Complex.NumberOfFaces() ||
+      static_cast<std::int64_t>(this->Metric->EdgeRatio.size()) != this->Complex.NumberOfEdges() ||
+      static_cast<std::int64_t>(this->Metric->VertexArea.size()) != this->Complex.NumberOfVertices()))
+  {
+    this->ErrorText = "the metric does not match the complex";
     return false;
   }
   if (field.rows() != this->Complex.NumberOfFaces() || field.cols() < 1)

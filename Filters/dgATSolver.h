@@ -45,6 +45,7 @@
 #ifndef dgATSolver_h
 #define dgATSolver_h
 
+#include "dgATMetric.h"
 #include "dgATOperators.h"
 
 #include <Eigen/Dense>
@@ -143,6 +144,11 @@ public:
   /// first; only ConjugateGradientIC is supported. Must outlive Run().
   void SetDistribution(const ATDistribution* d) { this->Distribution = d; }
 
+  /// Weighs the energy's terms by a metric (dgATMetric.h; null: the
+  /// identity, the paper's, the default). Its arrays must match the complex
+  /// and outlive Run(). Set before Run() or Initialize().
+  void SetMetric(const ATMetric* m) { this->Metric = m; }
+
   /// The whole schedule: u <- g, v <- 1, then levels of alternating steps.
   /// g is F x C (one row per face). Returns false when aborted or when the
   /// parameters are invalid (see Error()). Solver failures do not stop the
@@ -181,6 +187,8 @@ private:
     const char* name);
   const ATComplex& Complex;
   const ATDistribution* Distribution = nullptr;
+  const ATMetric* Metric = nullptr;
+  double VRhsEpsilon = 0; // the epsilon VRhs was made for
   ATParameters Params;
   ATStatistics Stats;
   Eigen::MatrixXd g, u;

@@ -1,5 +1,6 @@
 #include "vtkAmbrosioTortorelliFilter.h"
 
+#include "dgATMetric.h"
 #include "dgATOperators.h"
 #include "dgATSolver.h"
 #include "dgPieces.h"
@@ -44,6 +45,9 @@ struct vtkAmbrosioTortorelliFilter::Internals
   vtkIdType PolyOffset = 0, NumberOfPoints = 0;
   dg::ATParameters Params;
   int FieldScaling = 0;
+  int Metric = 0;
+  vtkSmartPointer<vtkDataArray> PointsData; // the world metric's points
+  vtkMTimeType PointsMTime = 0;
   double Scale = 1.0;
   int Iterations = 0;
   Eigen::MatrixXd U; // unnormalised, in the field's own unit
@@ -69,15 +73,22 @@ struct vtkAmbrosioTortorelliFilter::Internals
     this->PolysMTime = input->GetPolys()->GetMTime();
     this->PolyOffset = input->GetNumberOfVerts() + input->GetNumberOfLines();
     this->NumberOfPoints = input->GetNumberOfPoints();
+    this->PointsData = input->GetPoints() ? input->GetPoints()->GetData() : nullptr;
+    this->PointsMTime = this->PointsData ? this->PointsData->GetMTime() : 0;
   }
 
   bool SameSolve(vtkPolyData* input,
     vtkDataArray* field,
     const dg::ATParameters& p,
-    int scaling) const
+    int scaling,
+    int metric) const
   {
     const dg::ATParameters& q = this->Params;
-    return this->Valid && field == this->Field && field->GetMTime() == this->FieldMTime &&
+    vtkDataArray* points = input->GetPoints() ? input->GetPoints()->GetData() : nullptr;
+    const bool samePoints = metric == vtkAmbrosioTortorelliFilter::METRIC_GRID ||
+      (points == this->PointsData && points && points->GetMTime() == this->PointsMTime);
+    return this->Valid && metric == this->Metric && samePoints && field == this->Field &&
+           field->GetMTime() == this->FieldMTime &&
            input->GetPolys() == this->Polys && input->GetPolys()->GetMTime() == this->PolysMTime &&
            input->GetNumberOfVerts() + input->GetNumberOfLines() == this->PolyOffset &&
            input->GetNumberOfPoints() == this->NumberOfPoints && scaling == this->FieldScaling &&
@@ -333,7 +344,7 @@ int vtkAmbrosioTortorelliFilter::RequestData(vtkInformation*,
   }
 
   const int scaling = normalField ? FIELD_SCALING_NONE : this->FieldScaling;
-  if (!cache.SameSolve(input, field, params, scaling))
+  if (!cache.SameSolve(input, field, params, scaling, this->Metric))
   {
     cache.Valid = false;
     const int status = cache.Solve(this, input, field, polys, normalField, g, params, outputVector);
@@ -345,6 +356,7 @@ int vtkAmbrosioTortorelliFilter::RequestData(vtkInformation*,
     cache.Remember(input, field);
     cache.Params = params;
     cache.FieldScaling = scaling;
+    cache.Metric = this->Metric;
     ++this->NumberOfSolves;
   }
   this->NumberOfIterations = cache.Iterations;
@@ -507,6 +519,13 @@ int vtkAmbrosioTortorelliFilter::Internals::Solve(vtkAmbrosioTortorelliFilter* s
     vtkErrorWithObjectMacro(self, "Cannot build the complex: " << error << ".");
     return 0;
   }
+  dg::ATMetric metric;
+  if (self->Metric == METRIC_WORLD &&
+    !dg::ComputeWorldMetric(input->GetPoints(), nullptr, complex, offsets, connectivity, metric, error))
+  {
+    vtkErrorWithObjectMacro(self, "Cannot use the world metric: " << error << ".");
+    return 0;
+  }
   offsets = std::vector<std::int64_t>();
   connectivity = std::vector<std::int64_t>();
   // Two polygons of opposite winding across an edge make B compare u1 + u2
@@ -558,6 +577,10 @@ int vtkAmbrosioTortorelliFilter::Internals::Solve(vtkAmbrosioTortorelliFilter* s
   }
 
   dg::ATSolver solver(complex, params);
+  if (self->Metric == METRIC_WORLD)
+  {
+    solver.SetMetric(&metric);
+  }
   const bool done = solver.Run(g, [self](double f) {
     self->UpdateProgress(0.1 + 0.85 * f);
     return !self->GetAbortExecute();
@@ -606,6 +629,7 @@ void vtkAmbrosioTortorelliFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NormalizeVectorField: " << (this->NormalizeVectorField ? "On" : "Off") << "\n";
   os << indent << "LinearSolver: " << solvers[this->LinearSolver] << "\n";
   os << indent << "SolverTolerance: " << this->SolverTolerance << "\n";
+  os << indent << "Metric: " << (this->Metric == METRIC_WORLD ? "World" : "Grid") << "\n";
   os << indent << "FieldScaling: " << (this->FieldScaling == FIELD_SCALING_RANGE ? "Range" : "None")
      << "\n";
   os << indent << "FieldScale: " << this->FieldScale << "\n";

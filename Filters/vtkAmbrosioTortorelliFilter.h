@@ -18,10 +18,17 @@
  * MaximumIterations pairs (u-step, v-step) of linear solves are made, until
  * max |v - v_prev| < Tolerance.
  *
- * Units: the metric is the identity (as in the paper), so Alpha, Lambda and
- * the epsilons are in "grid units": edge lengths and face areas count as 1
- * whatever the point coordinates are. On a digital surface a voxel side is 1
- * (spacing does not matter); on a triangle mesh, one edge is one unit.
+ * Units (Metric): with METRIC_GRID (default, the paper's identity metric)
+ * Alpha, Lambda and the epsilons are in "grid units": edge lengths and face
+ * areas count as 1 whatever the point coordinates are. On a digital surface
+ * a voxel side is 1 (spacing does not matter); on a triangle mesh, one edge
+ * is one unit. With METRIC_WORLD every term is weighed by the surface's own
+ * geometry (face areas, edge over dual-edge lengths, vertex dual areas; see
+ * dgATMetric.h and docs/at-metric.md): the epsilons are then world lengths,
+ * Lambda is per world length and Alpha per world area, so the same
+ * parameters give the same result on one shape sampled at two resolutions
+ * or on an anisotropic grid. On a digital surface of spacing 1 the two
+ * metrics differ only at vertices where 3 or 5+ faces meet.
  *
  * Input: a vtkPolyData with polygons (quads of a digital surface, triangles,
  * any polygons; non-manifold and boundary edges are allowed). The field is
@@ -68,10 +75,11 @@
  * Re-execution: the solved u and v are kept between executions, and only a
  * change of the input or of a solve parameter (Alpha, Lambda, the epsilons,
  * MaximumIterations, Tolerance, LinearSolver, SolverTolerance, FieldScaling,
- * the field selection) solves again; FeatureThreshold and
+ * Metric, the field selection) solves again; FeatureThreshold and
  * NormalizeVectorField only rebuild the outputs (GetNumberOfSolves() counts
  * the solves). The input counts as changed when its field array, its polygon
- * array (either object or its MTime) or its number of points changes, so
+ * array (either object or its MTime) or its number of points changes (with
+ * METRIC_WORLD also its points array or that array's MTime), so
  * ParaView's shallow copies of an unchanged upstream output reuse the solve.
  * The kept solution costs about 64 bytes per quad of a closed digital
  * surface (u, v and the edge list) and holds a reference to those two input
@@ -213,6 +221,26 @@ public:
   vtkGetMacro(FieldScaling, int);
   ///@}
 
+  enum Metrics
+  {
+    METRIC_GRID = 0,
+    METRIC_WORLD = 1
+  };
+
+  ///@{
+  /**
+   * The metric of the operators (default METRIC_GRID, the paper's: every
+   * face, edge and vertex weighs 1, parameters in grid units). METRIC_WORLD:
+   * weights from the points' coordinates, parameters in world units (see the
+   * class description). A surface with a face of zero area or an edge of
+   * zero length is an error under METRIC_WORLD.
+   */
+  vtkSetClampMacro(Metric, int, METRIC_GRID, METRIC_WORLD);
+  vtkGetMacro(Metric, int);
+  void SetMetricToGrid() { this->SetMetric(METRIC_GRID); }
+  void SetMetricToWorld() { this->SetMetric(METRIC_WORLD); }
+  ///@}
+
   /**
    * The factor the field was divided by in the last solve (1 for normal
    * fields and with FIELD_SCALING_NONE).
@@ -276,6 +304,7 @@ protected:
   int LinearSolver = CONJUGATE_GRADIENT_IC;
   double SolverTolerance = 1e-5;
   int FieldScaling = FIELD_SCALING_RANGE;
+  int Metric = METRIC_GRID;
   double FieldScale = 1.0;
   int NumberOfIterations = 0;
   int NumberOfSolves = 0;

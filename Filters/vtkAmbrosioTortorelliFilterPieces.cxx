@@ -6,6 +6,7 @@
 
 #include "dgATHalo.h"
 #include "dgATOperators.h"
+#include "dgATMetric.h"
 #include "dgATSolver.h"
 
 #include <vtkCellArray.h>
@@ -217,12 +218,28 @@ int vtkAmbrosioTortorelliFilter::RequestDataPieces(vtkMultiProcessController* co
   {
     return fail(built ? "" : "cannot build the complex: " + error + ".");
   }
+  // The world metric from the local rows' own points: an owned row's
+  // weights read only its faces, edges and their faces, all in the halo.
+  dg::ATMetric metric;
+  if (this->Metric == METRIC_WORLD)
+  {
+    const bool ok = dg::ComputeWorldMetric(
+      input->GetPoints(), &halo.VertexRows, complex, localOffsets, localConn, metric, error);
+    if (!allOk(ok))
+    {
+      return fail(ok ? "" : "cannot use the world metric: " + error + ".");
+    }
+  }
   this->UpdateProgress(0.1);
 
   // 4. The solve: every process runs the same schedule; progress only (an
   // abort on one process alone would leave the others waiting).
   dg::ATSolver solver(complex, params);
   solver.SetDistribution(&halo);
+  if (this->Metric == METRIC_WORLD)
+  {
+    solver.SetMetric(&metric);
+  }
   const bool done = solver.Run(localG, [this](double f) {
     this->UpdateProgress(0.1 + 0.85 * f);
     return true;

@@ -206,6 +206,33 @@ if rank == 0:
     check(set(eN) == e1, "the same feature edges (%d, symmetric difference %d)" % (len(e1), len(e1 ^ set(eN))))
 ctrl.Barrier()
 
+# The world metric (docs/at-metric.md): each rank weighs its rows from its
+# own points and halo; the result must be one process's.
+atw = dg.vtkAmbrosioTortorelliFilter()
+atw.SetInputConnection(keep[3].GetOutputPort())
+atw.SetSolverTolerance(1e-8)
+atw.SetMetricToWorld()
+atw.UpdatePiece(rank, N, 0)
+distw = gather(arrays(atw))
+if rank == 0:
+    onew = dg.vtkAmbrosioTortorelliFilter()
+    onew.SetInputConnection(keep1[3].GetOutputPort())
+    onew.SetSolverTolerance(1e-8)
+    onew.SetMetricToWorld()
+    onew.Update()
+    refw = arrays(onew)
+    order = {c: i for i, c in enumerate(refw["cid"])}
+    idx = np.array([order[c] for c in distw["cid"]])
+    cosang = np.clip(np.abs(np.sum(distw["at"] * refw["at"][idx], axis=1)), 0, 1)
+    maxang = float(np.degrees(np.arccos(cosang)).max())
+    vref = dict(zip(refw["pid"], refw["v"]))
+    maxdv = max(abs(v - vref[p]) for p, v in zip(distw["pid"], distw["v"]))
+    check(maxang <= 0.01 and maxdv <= 1e-5,
+          "world metric: AT normals within 0.01 degree (max %.2e), v within 1e-5 (max %.2e)" % (maxang, maxdv))
+    eW = set(map(tuple, distw["edges"]))
+    check(eW == set(map(tuple, refw["edges"])), "world metric: the same feature edges (%d)" % len(eW))
+ctrl.Barrier()
+
 # A rank that fails (a bad radius on the last rank only) stops every rank.
 at2, keep2 = pipeline(1e-8)
 keep2[3].SetRadius(-1.0 if rank == N - 1 else 3.0)

@@ -201,6 +201,7 @@ bad_cases = [
     ("not a number", ["--alpha", "abc"], 2),
     ("unknown option", ["--frobnicate"], 2),
     ("unknown solver", ["--solver", "gauss"], 2),
+    ("unknown AT metric", ["--at-metric", "euclid"], 2),
     ("oblique MetaImage", [write("oblique.mha", ("ObjectType = Image\nNDims = 3\nDimSize = %d %d %d\n"
         "ElementSpacing = 1 1 1\nOffset = 0 0 0\nTransformMatrix = 0 1 0 -1 0 0 0 0 1\n"
         "ElementType = MET_UCHAR\nElementDataFile = LOCAL\n" % (N, N, N)).encode() + voxels)], 1),
@@ -299,6 +300,14 @@ if d.returncode == 0 and e.returncode == 0:
     check(nd > 0 and nd == ne, "--solver ldlt gives the default's %d feature edges (%d)" % (nd, ne))
 else:
     check(False, "solver runs: %s %s" % (d.stderr, e.stderr))
+
+# The world metric runs and finds the features (its accuracy: TestATMetric).
+w, out_w = run(inputs["v2.vol"], "--noise", "0.2", "--no-png", "--prefix", "s", "--at-metric", "world")
+if w.returncode == 0:
+    nw = feature_lines(out_w, "s")
+    check(nw > 0, "--at-metric world gives feature edges (%d)" % nw)
+else:
+    check(False, "--at-metric world run: %s" % w.stderr)
 
 # The picture: the built-in shape in both layouts (2 x 2 at W x H, 1 x 4 at
 # W x W/4). Each of the four panels holds the object (not background, not the
