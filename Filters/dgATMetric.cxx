@@ -85,6 +85,13 @@ bool ATMetric::Compute(const ATComplex& K, const std::vector<std::int64_t>& offs
       }
     }
   }
+  // A point in no polygon (faces have positive area, so only those are at
+  // 0) is not on the surface: weight 1 as with the grid metric, so that its
+  // row stays regular and its v stays 1.
+  for (double& a : this->VertexArea)
+  {
+    a = a > 0 ? a : 1.0;
+  }
   // Edges: |e| over the dual length. A manifold edge's dual edge runs from
   // one face centre to the edge midpoint to the other centre; on k faces
   // (boundary k = 1, non-manifold k > 2) the dual length is 2/k times the

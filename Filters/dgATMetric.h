@@ -33,7 +33,7 @@ struct ATMetric
 {
   std::vector<double> FaceArea;   // per face
   std::vector<double> EdgeRatio;  // per edge: |e| / |e*|
-  std::vector<double> VertexArea; // per vertex: dual area
+  std::vector<double> VertexArea; // per vertex: dual area (1 for a point in no face)
 
   /// From the complex, the polygons it was built from and 3 world
   /// coordinates per vertex. False (with a message) when a face has no

@@ -570,6 +570,31 @@ const Row Rows[] = {
     Expect::Result,
     "",
     [] { return AT(NonManifoldWithIsolatedPoint()); } },
+  { "ATWorldMetricNonManifoldEdgeAndIsolatedPoint",
+    Expect::Result,
+    "",
+    [] {
+      return AT(NonManifoldWithIsolatedPoint(),
+        [](vtkAmbrosioTortorelliFilter* a) { a->SetMetricToWorld(); });
+    } },
+  { "ATWorldMetricFlattenedSurface",
+    Expect::Error,
+    "world metric",
+    []
+    {
+      // Every point pressed into z = 0: the side faces have no area.
+      auto pd = CubeSurface();
+      vtkNew<vtkPoints> flat;
+      flat->DeepCopy(pd->GetPoints());
+      for (vtkIdType p = 0; p < flat->GetNumberOfPoints(); ++p)
+      {
+        double x[3];
+        flat->GetPoint(p, x);
+        flat->SetPoint(p, x[0], x[1], 0.0);
+      }
+      pd->SetPoints(flat);
+      return AT(pd, [](vtkAmbrosioTortorelliFilter* a) { a->SetMetricToWorld(); });
+    } },
   { "ATInconsistentWinding",
     Expect::Warning,
     "opposite winding",
