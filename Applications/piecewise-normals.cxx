@@ -4,9 +4,11 @@
 #include "dgBuiltinShape.h"
 #include "dgImageInput.h"
 #include "dgRender.h"
+#include "dgLabels.h"
 #include "dgPipeline.h"
 #include "dgProcesses.h"
 
+#include <vtkAppendPolyData.h>
 #include <vtkCellData.h>
 #include <vtkCommand.h>
 #include <vtkErrorCode.h>
@@ -15,6 +17,7 @@
 #include <vtkStreamingDemandDrivenPipeline.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkImageData.h>
+#include <vtkIntArray.h>
 #include <vtkNew.h>
 #include <vtkOBJWriter.h>
 #include <vtkOutputWindow.h>
@@ -36,6 +39,7 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -57,6 +61,7 @@ struct Options
   bool Ras = false; // NIfTI inputs in RAS instead of LPS
   std::string Compression = "lz4";
   int Width = 1200, Height = 900;
+  std::string Labels; // --labels: every label's surface in one run
 };
 
 void Usage()
@@ -78,6 +83,10 @@ INPUT   a DGtal .vol (Version 2 or 3), VTK .vti or .pvti, NIfTI .nii/.nii.gz (it
 Inside voxels (default: value != 0)
   --label L              voxels whose value is L (label maps)
   --range LO HI          voxels whose value is in [LO, HI]
+  --labels SPEC          every label of a label map in one run: "all", or labels
+                         and ranges "1,4,10-12"; each label's pipeline runs on its
+                         own box of the volume (plus the estimator's reach) and
+                         the outputs hold all labels with a cell array Label
 Noise (the paper's model: flip with probability k^(1 + distance to boundary))
   --noise K              noise level k in [0, 1] (default 0: none)
   --seed S               random seed (default 0)
@@ -310,6 +319,8 @@ Options ParseOptions(int argc, char* argv[])
     }
     else if (arg == "--solver-tolerance")
       o.P.SolverTolerance = number();
+    else if (arg == "--labels")
+      o.Labels = value();
     else if (arg == "--ras")
       o.Ras = true;
     else if (arg == "--compression")
@@ -371,6 +382,21 @@ Options ParseOptions(int argc, char* argv[])
     OptionError("--feature-threshold must be in (0, 1)");
   if (o.Width < 64 || o.Height < 64 || o.Width > 8192 || o.Height > 8192)
     OptionError("--width and --height must be in [64, 8192]");
+  if (!o.Labels.empty())
+  {
+    dg::LabelSpec spec;
+    std::string error;
+    if (!dg::ParseLabelSpec(o.Labels, spec, error))
+      OptionError("--labels: " + error);
+    if (o.P.SelectionMode != vtkDigitalSurfaceFilter::NON_ZERO)
+      OptionError("--labels selects the voxels itself: drop --label and --range");
+    // The noise is drawn from global voxel indices and the distance to the
+    // whole boundary: per label box it would not be the whole volume's.
+    if (o.P.Noise > 0)
+      OptionError("--labels and --noise cannot be combined (add the noise to the label map first)");
+    if (o.P.SecondPass)
+      OptionError("--labels and --second-pass cannot be combined");
+  }
   return o;
 }
 
@@ -615,6 +641,13 @@ int RunPieces(Options opt, dg::Processes& procs)
     if (root)
       std::cerr << Program << ": --ply and --obj are not available with " << size
                 << " processes (convert the .pvtp afterwards)\n";
+    return 2;
+  }
+  if (!opt.Labels.empty())
+  {
+    if (root)
+      std::cerr << Program << ": --labels is not available with " << size
+                << " processes (run one process per label, or one process)\n";
     return 2;
   }
   if (root)
@@ -953,21 +986,110 @@ int main(int argc, char* argv[])
   }
   lap("read");
 
-  // 2. The pipeline, one stage at a time (progress bar, timings, errors).
-  dg::Pipeline pipeline;
-  pipeline.Build(image, opt.P);
-  for (const auto& stage : pipeline.Stages)
+  // 2. The pipeline, one stage at a time (progress bar, timings, errors):
+  // once on the whole volume, or with --labels once per label on that
+  // label's box of the volume grown by the stages' reach.
+  struct Run
   {
-    watch(stage.Algorithm);
-    progress->Stage = stage.Name;
-    stage.Algorithm->Update();
-    if (errors->Failed)
-      return Fail(errors->Message);
-    lap(stage.Name);
+    vtkSmartPointer<vtkImageData> Image;
+    dg::PipelineSettings Settings;
+    long long Label = 0;
+  };
+  std::vector<Run> runs;
+  std::vector<dg::LabelBox> labelBoxes;
+  if (opt.Labels.empty())
+  {
+    runs.push_back({ image, opt.P, 0 });
   }
+  else
+  {
+    dg::LabelSpec spec;
+    std::string error;
+    if (!dg::ParseLabelSpec(opt.Labels, spec, error) ||
+      !dg::FindLabels(image, spec, labelBoxes, error))
+      return Fail("--labels: " + error);
+    const int margin = dg::LabelMargin(opt.P);
+    for (const dg::LabelBox& box : labelBoxes)
+    {
+      Run run{ dg::CropImage(image, box.Extent, margin), opt.P, box.Label };
+      run.Settings.SelectionMode = vtkDigitalSurfaceFilter::LABEL;
+      run.Settings.Label = static_cast<double>(box.Label);
+      runs.push_back(run);
+    }
+    lap("labels");
+  }
+  vtkNew<vtkAppendPolyData> appendSurfaces, appendFeatures;
+  std::unique_ptr<dg::Pipeline> pipelinePtr;
+  long long surfels = 0, atLines = 0, removed = 0, filled = 0, changed = 0;
+  std::vector<std::string> perLabel;
+  std::map<std::string, double> stageTimes;
+  std::vector<std::string> stageOrder;
+  for (Run& run : runs)
+  {
+    pipelinePtr.reset(new dg::Pipeline);
+    dg::Pipeline& pipeline = *pipelinePtr;
+    pipeline.Build(run.Image, run.Settings);
+    for (const auto& stage : pipeline.Stages)
+    {
+      watch(stage.Algorithm);
+      progress->Stage = labelBoxes.empty() ? stage.Name
+                                           : "label " + std::to_string(run.Label) + ": " + stage.Name;
+      const auto t0 = Clock::now();
+      stage.Algorithm->Update();
+      if (errors->Failed)
+        return Fail((labelBoxes.empty() ? "" : "label " + std::to_string(run.Label) + ": ") +
+          errors->Message);
+      if (!stageTimes.count(stage.Name))
+        stageOrder.push_back(stage.Name);
+      stageTimes[stage.Name] += std::chrono::duration<double>(Clock::now() - t0).count();
+    }
+    const long long n = pipeline.Surface->GetOutput()->GetNumberOfPolys();
+    surfels += n;
+    atLines += pipeline.AT->GetOutput(1)->GetNumberOfLines();
+    if (run.Settings.MinimumComponentSize > 1)
+    {
+      removed += pipeline.Islands->GetNumberOfRemovedIslands();
+      filled += pipeline.Islands->GetNumberOfFilledCavities();
+      changed += pipeline.Islands->GetNumberOfChangedVoxels();
+    }
+    if (labelBoxes.empty())
+      break;
+    // Each label's outputs, tagged, into one surface and one set of lines.
+    for (vtkPolyData* pd : { pipeline.Result(), pipeline.Features() })
+    {
+      vtkNew<vtkPolyData> tagged;
+      tagged->ShallowCopy(pd);
+      vtkNew<vtkIntArray> label;
+      label->SetName("Label");
+      label->SetNumberOfTuples(pd->GetNumberOfCells());
+      label->FillValue(static_cast<int>(run.Label));
+      tagged->GetCellData()->AddArray(label);
+      (pd == pipeline.Result() ? appendSurfaces.Get() : appendFeatures.Get())->AddInputData(tagged);
+    }
+    std::ostringstream line;
+    line << "  label " << run.Label << ": " << n << " surfels, "
+         << pipeline.Features()->GetNumberOfLines() << " feature edges";
+    perLabel.push_back(line.str());
+    run.Image = nullptr; // the crop is no longer needed
+  }
+  for (const auto& name : stageOrder)
+  {
+    times.emplace_back(name, stageTimes[name]);
+  }
+  t = Clock::now();
+  dg::Pipeline& pipeline = *pipelinePtr;
   vtkPolyData* result = pipeline.Result();
   vtkPolyData* features = pipeline.Features();
-  vtkImageData* volume = pipeline.Volume();
+  if (!labelBoxes.empty())
+  {
+    appendSurfaces->Update();
+    appendFeatures->Update();
+    result = appendSurfaces->GetOutput();
+    features = appendFeatures->GetOutput();
+    // The picture shows the active normals: keep the pipeline's choice.
+    result->GetCellData()->SetActiveNormals(pipeline.NormalsName());
+    lap("append");
+  }
 
   // 5. Files.
   OutputFiles files;
@@ -1036,7 +1158,7 @@ int main(int argc, char* argv[])
     return Fail("cannot rename the output files in '" + opt.OutputDir + "'");
 
   int dims[3];
-  volume->GetDimensions(dims);
+  image->GetDimensions(dims);
   std::ostringstream stages;
   double total = 0;
   for (const auto& s : times)
@@ -1048,20 +1170,21 @@ int main(int argc, char* argv[])
   }
   std::cout << Program << ": " << (opt.Input.empty() ? "built-in shape" : opt.Input) << " "
             << dims[0] << "x" << dims[1] << "x" << dims[2] << ": "
-            << pipeline.Surface->GetOutput()->GetNumberOfPolys() << " surfels, "
-            << features->GetNumberOfLines() << " feature edges";
+            << surfels << " surfels, " << features->GetNumberOfLines() << " feature edges";
   if (opt.P.Sharpen && opt.P.SecondPass)
     std::cout << " (one line per edge, second pass; the first Ambrosio-Tortorelli alone: "
-              << pipeline.AT->GetOutput(1)->GetNumberOfLines() << ")";
+              << atLines << ")";
   else if (opt.P.Sharpen)
-    std::cout << " (one line per edge; Ambrosio-Tortorelli alone: "
-              << pipeline.AT->GetOutput(1)->GetNumberOfLines() << ")";
+    std::cout << " (one line per edge; Ambrosio-Tortorelli alone: " << atLines << ")";
+  if (!labelBoxes.empty())
+    std::cout << ", " << labelBoxes.size() << " label" << (labelBoxes.size() == 1 ? "" : "s");
   std::cout << "\n";
+  for (const auto& line : perLabel)
+    std::cout << line << "\n";
   if (opt.P.MinimumComponentSize > 1)
-    std::cout << "  removed " << pipeline.Islands->GetNumberOfRemovedIslands()
-              << " inside components and filled " << pipeline.Islands->GetNumberOfFilledCavities()
-              << " cavities smaller than " << opt.P.MinimumComponentSize << " voxels ("
-              << pipeline.Islands->GetNumberOfChangedVoxels() << " voxels)\n";
+    std::cout << "  removed " << removed << " inside components and filled " << filled
+              << " cavities smaller than " << opt.P.MinimumComponentSize << " voxels (" << changed
+              << " voxels)\n";
   std::cout
             << "  time: " << stages.str() << " (total " << total << " s); peak memory "
             << static_cast<long>(PeakMemoryMiB()) << " MiB\n";

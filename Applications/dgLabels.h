@@ -1,0 +1,59 @@
+// Label maps in one run (--labels): which labels, where each one lies, and
+// each label's own box of the volume, so that a label's pipeline costs what
+// its surface costs and not a pass over the whole volume.
+#ifndef dgLabels_h
+#define dgLabels_h
+
+#include "dgPipeline.h"
+
+#include <vtkImageData.h>
+#include <vtkSmartPointer.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace dg
+{
+
+/// "all", or labels and inclusive ranges separated by commas: "1,4,10-12".
+struct LabelSpec
+{
+  bool All = false;
+  std::vector<std::pair<long long, long long>> Ranges;
+  bool Contains(long long label) const;
+};
+/// False with a message naming the bad item.
+bool ParseLabelSpec(const std::string& text, LabelSpec& spec, std::string& error);
+
+struct LabelBox
+{
+  long long Label;
+  int Extent[6];       // the voxels of this label (structured indices)
+  long long Voxels = 0;
+};
+
+/// The non-zero labels of the image's active scalars that `spec` selects,
+/// in increasing order, with their voxel boxes: one pass over the volume.
+/// False with a message when the scalars are missing, have several
+/// components, or hold a value that is not an integer (not a label map).
+bool FindLabels(vtkImageData* image, const LabelSpec& spec, std::vector<LabelBox>& labels,
+  std::string& error);
+
+/// A copy of the image's voxels in `extent` grown by `margin` voxels
+/// (clipped to the image), with the same origin, spacing and direction: its
+/// structured indices are the whole image's, so every output lands where
+/// the whole-volume run puts it.
+vtkSmartPointer<vtkImageData> CropImage(vtkImageData* image, const int extent[6], int margin);
+
+/// Voxel layers around a label's box that its pipeline reads: the input
+/// normals' ball or offset (II ceil(r) + 1, VCM ceil(2R + r) + 1, RHT
+/// ceil(r) + 1, as the estimators ask their pieces for), plus one layer so
+/// that the outside around the label touches the crop's border (the island
+/// filter never fills an outside component that touches the border, as on
+/// the whole volume).
+int LabelMargin(const PipelineSettings& settings);
+
+} // namespace dg
+
+#endif
