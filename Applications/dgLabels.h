@@ -6,9 +6,12 @@
 
 #include "dgPipeline.h"
 
+#include <vtkAlgorithm.h>
 #include <vtkImageData.h>
+#include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
 
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -45,6 +48,19 @@ bool FindLabels(vtkImageData* image, const LabelSpec& spec, std::vector<LabelBox
 /// structured indices are the whole image's, so every output lands where
 /// the whole-volume run puts it.
 vtkSmartPointer<vtkImageData> CropImage(vtkImageData* image, const int extent[6], int margin);
+
+/// The interfaces of a label map (--interfaces): every face between two
+/// different labels, or a label and the background, once, oriented out of
+/// the larger label (LabelInside > LabelOutside; background and labels not
+/// selected count as 0), with the II normals of LabelInside's own surface
+/// (run on its box, as --labels does) and the points of all labels merged,
+/// so that AT sees one complex: non-manifold along the lines where three or
+/// more labels meet. `run` updates a filter under the caller's progress and
+/// error observers (false: it failed, and the caller holds the message);
+/// nullptr then, or with `error` set on an inconsistency.
+vtkSmartPointer<vtkPolyData> LabelInterfaces(vtkImageData* image,
+  const std::vector<LabelBox>& labels, const PipelineSettings& settings,
+  const std::function<bool(vtkAlgorithm*, const std::string&)>& run, std::string& error);
 
 /// Voxel layers around a label's box that its pipeline reads: the input
 /// normals' ball or offset (II ceil(r) + 1, VCM ceil(2R + r) + 1, RHT

@@ -5,6 +5,21 @@
 namespace dg
 {
 
+void ConfigureAT(vtkAmbrosioTortorelliFilter* a, const PipelineSettings& s)
+{
+  a->SetAlpha(s.Alpha);
+  a->SetLambda(s.Lambda);
+  a->SetEpsilonStart(s.EpsStart);
+  a->SetEpsilonEnd(s.EpsEnd);
+  a->SetEpsilonRatio(s.EpsRatio);
+  a->SetMaximumIterations(s.Iterations);
+  a->SetTolerance(s.Tolerance);
+  a->SetFeatureThreshold(s.FeatureThreshold);
+  a->SetLinearSolver(s.Solver);
+  a->SetSolverTolerance(s.SolverTolerance);
+  a->SetMetric(s.Metric);
+}
+
 void Pipeline::Build(vtkImageData* image, const PipelineSettings& s)
 {
   this->Build(image, nullptr, s);
@@ -112,23 +127,9 @@ void Pipeline::Build(vtkImageData* image, vtkAlgorithmOutput* source, const Pipe
     this->Stages.push_back({ "II normals", this->II });
   }
 
-  // Both AT passes take the same parameters.
-  auto configureAT = [&](vtkAmbrosioTortorelliFilter* a) {
-    a->SetAlpha(s.Alpha);
-    a->SetLambda(s.Lambda);
-    a->SetEpsilonStart(s.EpsStart);
-    a->SetEpsilonEnd(s.EpsEnd);
-    a->SetEpsilonRatio(s.EpsRatio);
-    a->SetMaximumIterations(s.Iterations);
-    a->SetTolerance(s.Tolerance);
-    a->SetFeatureThreshold(s.FeatureThreshold);
-    a->SetLinearSolver(s.Solver);
-    a->SetSolverTolerance(s.SolverTolerance);
-    a->SetMetric(s.Metric);
-  };
   // AT reads the active cell normals: the estimator's.
   this->AT->SetInputConnection(estimator->GetOutputPort());
-  configureAT(this->AT);
+  ConfigureAT(this->AT, s);
   this->Stages.push_back({ "Ambrosio-Tortorelli", this->AT });
 
   if (s.Sharpen)
@@ -142,7 +143,7 @@ void Pipeline::Build(vtkImageData* image, vtkAlgorithmOutput* source, const Pipe
     this->AT2->SetInputConnection(this->Sharp->GetOutputPort());
     this->AT2->SetInputArrayToProcess(
       0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "SharpNormals");
-    configureAT(this->AT2);
+    ConfigureAT(this->AT2, s);
     this->Stages.push_back({ "Ambrosio-Tortorelli 2", this->AT2 });
     this->Sharp2->SetInputConnection(this->AT2->GetOutputPort());
     this->Sharp2->SetFeatureThreshold(s.FeatureThreshold);

@@ -70,6 +70,9 @@ struct PipelineSettings
   bool SecondPass = false;
 };
 
+/// The settings' AT parameters on an AT filter (every AT the program runs).
+void ConfigureAT(vtkAmbrosioTortorelliFilter* at, const PipelineSettings& settings);
+
 class Pipeline
 {
 public:

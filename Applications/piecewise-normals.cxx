@@ -62,6 +62,7 @@ struct Options
   std::string Compression = "lz4";
   int Width = 1200, Height = 900;
   std::string Labels; // --labels: every label's surface in one run
+  bool Interfaces = false; // --interfaces: the faces between labels, once
 };
 
 void Usage()
@@ -87,6 +88,13 @@ Inside voxels (default: value != 0)
                          and ranges "1,4,10-12"; each label's pipeline runs on its
                          own box of the volume (plus the estimator's reach) and
                          the outputs hold all labels with a cell array Label
+  --interfaces           with --labels: every face between two labels, or a label
+                         and the background, once (cell arrays LabelInside >
+                         LabelOutside; labels not selected count as background),
+                         II normals out of LabelInside, and one AT on the whole
+                         non-manifold complex: shared boundaries smoothed once,
+                         the lines where 3 labels meet come out as features.
+                         AT's own output (no islands, no sharp stage)
 Noise (the paper's model: flip with probability k^(1 + distance to boundary))
   --noise K              noise level k in [0, 1] (default 0: none)
   --seed S               random seed (default 0)
@@ -321,6 +329,8 @@ Options ParseOptions(int argc, char* argv[])
       o.P.SolverTolerance = number();
     else if (arg == "--labels")
       o.Labels = value();
+    else if (arg == "--interfaces")
+      o.Interfaces = true;
     else if (arg == "--ras")
       o.Ras = true;
     else if (arg == "--compression")
@@ -396,6 +406,17 @@ Options ParseOptions(int argc, char* argv[])
       OptionError("--labels and --noise cannot be combined (add the noise to the label map first)");
     if (o.P.SecondPass)
       OptionError("--labels and --second-pass cannot be combined");
+  }
+  if (o.Interfaces)
+  {
+    if (o.Labels.empty())
+      OptionError("--interfaces needs --labels (all, or the labels whose interfaces to build)");
+    if (o.P.Estimator != "ii")
+      OptionError("--interfaces estimates II normals only (drop --estimator)");
+    // Removing a speck of one label would change its neighbours' interfaces;
+    // the sharp stage reads a manifold surface.
+    o.P.MinimumComponentSize = 0;
+    o.P.Sharpen = false;
   }
   return o;
 }
@@ -1009,7 +1030,7 @@ int main(int argc, char* argv[])
       !dg::FindLabels(image, spec, labelBoxes, error))
       return Fail("--labels: " + error);
     const int margin = dg::LabelMargin(opt.P);
-    for (const dg::LabelBox& box : labelBoxes)
+    for (const dg::LabelBox& box : opt.Interfaces ? std::vector<dg::LabelBox>() : labelBoxes)
     {
       Run run{ dg::CropImage(image, box.Extent, margin), opt.P, box.Label };
       run.Settings.SelectionMode = vtkDigitalSurfaceFilter::LABEL;
@@ -1072,22 +1093,60 @@ int main(int argc, char* argv[])
     perLabel.push_back(line.str());
     run.Image = nullptr; // the crop is no longer needed
   }
+  // --interfaces: every interface face once, one AT on the whole complex.
+  vtkNew<vtkAmbrosioTortorelliFilter> interfacesAT;
+  if (opt.Interfaces)
+  {
+    auto runStage = [&](vtkAlgorithm* algorithm, const std::string& name) {
+      watch(algorithm);
+      progress->Stage = name;
+      const auto t0 = Clock::now();
+      algorithm->Update();
+      const std::string key = name.substr(name.find(": ") == std::string::npos ? 0 : name.find(": ") + 2);
+      if (!stageTimes.count(key))
+        stageOrder.push_back(key);
+      stageTimes[key] += std::chrono::duration<double>(Clock::now() - t0).count();
+      return !errors->Failed;
+    };
+    std::string error;
+    auto merged = dg::LabelInterfaces(image, labelBoxes, opt.P, runStage, error);
+    if (!merged)
+      return Fail(errors->Failed ? errors->Message : error);
+    interfacesAT->SetInputData(merged);
+    dg::ConfigureAT(interfacesAT, opt.P);
+    if (!runStage(interfacesAT, "Ambrosio-Tortorelli"))
+      return Fail(errors->Message);
+    surfels = merged->GetNumberOfPolys();
+    atLines = interfacesAT->GetOutput(1)->GetNumberOfLines();
+  }
   for (const auto& name : stageOrder)
   {
     times.emplace_back(name, stageTimes[name]);
   }
   t = Clock::now();
-  dg::Pipeline& pipeline = *pipelinePtr;
-  vtkPolyData* result = pipeline.Result();
-  vtkPolyData* features = pipeline.Features();
-  if (!labelBoxes.empty())
+  vtkPolyData* result = nullptr;
+  vtkPolyData* features = nullptr;
+  const char* inputNormalsName = "IINormals";
+  if (opt.Interfaces)
+  {
+    result = interfacesAT->GetOutput(0);
+    features = interfacesAT->GetOutput(1);
+  }
+  else if (labelBoxes.empty())
+  {
+    result = pipelinePtr->Result();
+    features = pipelinePtr->Features();
+    inputNormalsName = pipelinePtr->InputNormalsName();
+  }
+  else
   {
     appendSurfaces->Update();
     appendFeatures->Update();
     result = appendSurfaces->GetOutput();
     features = appendFeatures->GetOutput();
+    inputNormalsName = pipelinePtr->InputNormalsName();
     // The picture shows the active normals: keep the pipeline's choice.
-    result->GetCellData()->SetActiveNormals(pipeline.NormalsName());
+    result->GetCellData()->SetActiveNormals(pipelinePtr->NormalsName());
     lap("append");
   }
 
@@ -1150,7 +1209,7 @@ int main(int argc, char* argv[])
     ro.Panels = opt.Panels;
     std::string error;
     const std::string png = files.Temporary(base + ".png");
-    if (!dg::RenderPicture(result, pipeline.InputNormalsName(), features, ro, png, error))
+    if (!dg::RenderPicture(result, inputNormalsName, features, ro, png, error))
       return Fail(error);
     lap("render");
   }
@@ -1171,7 +1230,9 @@ int main(int argc, char* argv[])
   std::cout << Program << ": " << (opt.Input.empty() ? "built-in shape" : opt.Input) << " "
             << dims[0] << "x" << dims[1] << "x" << dims[2] << ": "
             << surfels << " surfels, " << features->GetNumberOfLines() << " feature edges";
-  if (opt.P.Sharpen && opt.P.SecondPass)
+  if (opt.Interfaces)
+    std::cout << " (label interfaces, Ambrosio-Tortorelli's own output)";
+  else if (opt.P.Sharpen && opt.P.SecondPass)
     std::cout << " (one line per edge, second pass; the first Ambrosio-Tortorelli alone: "
               << atLines << ")";
   else if (opt.P.Sharpen)

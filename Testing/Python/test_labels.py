@@ -91,6 +91,55 @@ if p.returncode == 0:
         check(nl == oneF.GetNumberOfLines() and (nl > 0) == (L != 5),
               "label %d: %d feature edges, one-label run %d" % (L, nl, oneF.GetNumberOfLines()))
 
+# --interfaces: every face between two different values (the grid's outside
+# is 0) once, oriented out of the larger label, II normals of that label's
+# own surface, and AT on the one non-manifold complex, whose lines where
+# three labels meet must come out as features.
+p, out = run(path, "--labels", "all", "--interfaces")
+check(p.returncode == 0, "--labels all --interfaces runs (%s)" % p.stderr.strip())
+if p.returncode == 0:
+    S = read(os.path.join(out, "m_surface.vtp"))
+    cd = S.GetCellData()
+    ins, outs = vtk_to_numpy(cd.GetArray("LabelInside")), vtk_to_numpy(cd.GetArray("LabelOutside"))
+    padded = np.pad(data, 1)
+    expected = sum(int((np.diff(padded, axis=a) != 0).sum()) for a in range(3))
+    check(S.GetNumberOfCells() == expected, "each interface face once: %d faces, %d expected"
+          % (S.GetNumberOfCells(), expected))
+    check(bool(np.all(ins > outs)) and set(ins.tolist()) <= {2, 5, 9},
+          "LabelInside > LabelOutside on every face")
+    pairs = {(a, b) for a, b in zip(ins.tolist(), outs.tolist())}
+    check(pairs == {(2, 0), (5, 0), (9, 0), (5, 2), (9, 2), (9, 5)}, "every pair of touching labels: %s" % sorted(pairs))
+    vox = vtk_to_numpy(cd.GetArray("InsideVoxel"))
+    d = vtk_to_numpy(cd.GetArray("SurfelDirection"))
+    keys = set(map(tuple, np.column_stack([vox, d]).tolist()))
+    check(len(keys) == S.GetNumberOfCells(), "no face twice")
+    # Edges and their faces; the lines where 3 or more labels meet.
+    quads = vtk_to_numpy(S.GetPolys().GetConnectivityArray()).reshape(-1, 4)
+    edges = {}
+    for f, q in enumerate(quads):
+        for a, b in zip(q, np.roll(q, -1)):
+            edges.setdefault((min(a, b), max(a, b)), []).append(f)
+    triple = [e for e, fs in edges.items() if len(set(ins[fs].tolist()) | set(outs[fs].tolist())) >= 3]
+    v = vtk_to_numpy(S.GetPointData().GetArray("ATFeatureIndicator"))
+    featured = sum(1 for a, b in triple if v[a] < 0.5 and v[b] < 0.5)
+    check(len(triple) > 50 and featured >= 0.9 * len(triple),
+          "the lines where 3 labels meet are features: %d of %d edges" % (featured, len(triple)))
+    # Away from those lines a face keeps the II normal of its inside label's
+    # own surface: label 2's faces on the background against --labels 2.
+    p2, out2 = run(path, "--labels", "2")
+    if p2.returncode == 0:
+        one = read(os.path.join(out2, "m_surface.vtp"))
+        ocd = one.GetCellData()
+        ref = {k: n for k, n in zip(map(tuple, np.column_stack([vtk_to_numpy(ocd.GetArray("InsideVoxel")),
+                                                              vtk_to_numpy(ocd.GetArray("SurfelDirection"))]).tolist()),
+                                    vtk_to_numpy(ocd.GetArray("IINormals")))}
+        sel = np.nonzero((ins == 2) & (outs == 0))[0]
+        ii = vtk_to_numpy(cd.GetArray("IINormals"))
+        dmax = max(np.abs(ii[f] - ref[tuple(vox[f].tolist()) + (int(d[f]),)]).max() for f in sel)
+        check(dmax == 0, "II normals of label 2's background faces equal its own run's (max %.1e)" % dmax)
+p, _ = run(path, "--interfaces")
+check(p.returncode == 2, "--interfaces without --labels: exit 2")
+
 # Lists and ranges; a label that is not there; bad specs and combinations.
 p, out = run(path, "--labels", "2,7-9")
 if p.returncode == 0:
