@@ -105,66 +105,6 @@ ATRun RunAT(vtkImageData* image, double iiRadiusWorld, int metric, double alpha,
   return r;
 }
 
-// Feature lines and normals against the true shape, in world lengths:
-// precision and recall at `tolerance`, the feature length near the edges
-// over the true edge length, and the mean normal error by world distance
-// to the edges (< near, >= near).
-struct WorldScores
-{
-  double Precision = 0, Recall = 0, Multiplicity = 0, NearError = 0, FarError = 0;
-};
-WorldScores Score(const ATRun& r, const dgtest::ImplicitShape& shape, double tolerance, double near)
-{
-  WorldScores s;
-  vtkPolyData* f = r.Features;
-  dgtest::PolylineDistance detected;
-  vtkNew<vtkIdList> ids;
-  double total = 0, good = 0;
-  for (vtkIdType c = 0; c < f->GetNumberOfCells(); ++c)
-  {
-    f->GetCellPoints(c, ids);
-    V3 a, b;
-    f->GetPoint(ids->GetId(0), a.data());
-    f->GetPoint(ids->GetId(1), b.data());
-    detected.AddSegment(a, b);
-    const double l = (b - a).norm();
-    total += l;
-    good += shape.DistanceToSharpEdge(0.5 * (a + b), 2 * tolerance) <= tolerance ? l : 0.0;
-  }
-  s.Precision = total > 0 ? good / total : 0.0;
-  const auto samples = shape.SharpEdgeSamples(0.25);
-  std::size_t covered = 0;
-  for (const V3& p : samples)
-  {
-    covered += total > 0 && detected.Distance(p, 2 * tolerance) <= tolerance;
-  }
-  s.Recall = samples.empty() ? 0.0 : double(covered) / samples.size();
-  s.Multiplicity = good / (0.25 * static_cast<double>(samples.size()));
-  // Cell centres of the quads (world).
-  vtkPolyData* pd = r.Surface;
-  vtkDataArray* n = pd->GetCellData()->GetArray("ATNormals");
-  double sum[2] = { 0, 0 };
-  int count[2] = { 0, 0 };
-  for (vtkIdType c = 0; c < pd->GetNumberOfCells(); ++c)
-  {
-    pd->GetCellPoints(c, ids);
-    V3 centre(0, 0, 0);
-    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
-    {
-      V3 p;
-      pd->GetPoint(ids->GetId(k), p.data());
-      centre += p / static_cast<double>(ids->GetNumberOfIds());
-    }
-    V3 x;
-    n->GetTuple(c, x.data());
-    const int far = shape.DistanceToSharpEdge(centre, 2 * near) < near ? 0 : 1;
-    sum[far] += dgtest::AngleDegrees(x, shape.Normal(centre));
-    ++count[far];
-  }
-  s.NearError = count[0] ? sum[0] / count[0] : 0.0;
-  s.FarError = count[1] ? sum[1] / count[1] : 0.0;
-  return s;
-}
 } // namespace
 
 TEST(ATMetric, WeightsOfAnAnisotropicBox)
@@ -239,14 +179,7 @@ TEST(ATMetric, WeightsOfAnAnisotropicBox)
   EXPECT_GT(coplanar, 20);
 
   // Degenerate geometry is refused.
-  vtkNew<vtkPoints> flat;
-  flat->DeepCopy(surface->GetPoints());
-  for (vtkIdType p = 0; p < flat->GetNumberOfPoints(); ++p)
-  {
-    double x[3];
-    flat->GetPoint(p, x);
-    flat->SetPoint(p, x[0], x[1], 0.0);
-  }
+  auto flat = dgtest::FlattenedPoints(surface->GetPoints());
   EXPECT_FALSE(
     dg::ComputeWorldMetric(flat, nullptr, complex, offsets, connectivity, metric, error));
   EXPECT_NE(error.find("no"), std::string::npos) << error;
@@ -318,20 +251,10 @@ Band OracleBand(const dgtest::ImplicitShape& shape, const int n[3], const double
   truth->SetName("TrueNormals");
   truth->SetNumberOfComponents(3);
   truth->SetNumberOfTuples(surface->GetNumberOfCells());
-  vtkNew<vtkIdList> ids;
-  std::vector<V3> centres(surface->GetNumberOfCells());
+  const std::vector<V3> centres = dgtest::CellCentres(surface);
   for (vtkIdType c = 0; c < surface->GetNumberOfCells(); ++c)
   {
-    surface->GetCellPoints(c, ids);
-    V3 centre(0, 0, 0);
-    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
-    {
-      V3 p;
-      surface->GetPoint(ids->GetId(k), p.data());
-      centre += p / static_cast<double>(ids->GetNumberOfIds());
-    }
-    centres[c] = centre;
-    const V3 nn = shape.Normal(centre);
+    const V3 nn = shape.Normal(centres[c]);
     truth->SetTuple3(c, nn[0], nn[1], nn[2]);
   }
   surface->GetCellData()->SetNormals(truth);

@@ -584,15 +584,7 @@ const Row Rows[] = {
     {
       // Every point pressed into z = 0: the side faces have no area.
       auto pd = CubeSurface();
-      vtkNew<vtkPoints> flat;
-      flat->DeepCopy(pd->GetPoints());
-      for (vtkIdType p = 0; p < flat->GetNumberOfPoints(); ++p)
-      {
-        double x[3];
-        flat->GetPoint(p, x);
-        flat->SetPoint(p, x[0], x[1], 0.0);
-      }
-      pd->SetPoints(flat);
+      pd->SetPoints(dgtest::FlattenedPoints(pd->GetPoints()));
       return AT(pd, [](vtkAmbrosioTortorelliFilter* a) { a->SetMetricToWorld(); });
     } },
   { "ATInconsistentWinding",

@@ -1,6 +1,7 @@
 #include "dgTestShapes.h"
 
 #include <vtkCellArray.h>
+#include <vtkIdList.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
 #include <vtkDoubleArray.h>
@@ -163,6 +164,38 @@ std::vector<std::pair<vtkIdType, vtkIdType>> EdgePairs(vtkPolyData* lines)
   }
   std::sort(e.begin(), e.end());
   return e;
+}
+
+std::vector<Eigen::Vector3d> CellCentres(vtkPolyData* pd)
+{
+  std::vector<Eigen::Vector3d> out(pd->GetNumberOfCells());
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < pd->GetNumberOfCells(); ++c)
+  {
+    pd->GetCellPoints(c, ids);
+    Eigen::Vector3d centre(0, 0, 0);
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+    {
+      Eigen::Vector3d p;
+      pd->GetPoint(ids->GetId(k), p.data());
+      centre += p / static_cast<double>(ids->GetNumberOfIds());
+    }
+    out[c] = centre;
+  }
+  return out;
+}
+
+vtkSmartPointer<vtkPoints> FlattenedPoints(vtkPoints* points)
+{
+  auto flat = vtkSmartPointer<vtkPoints>::New();
+  flat->DeepCopy(points);
+  for (vtkIdType p = 0; p < flat->GetNumberOfPoints(); ++p)
+  {
+    double x[3];
+    flat->GetPoint(p, x);
+    flat->SetPoint(p, x[0], x[1], 0.0);
+  }
+  return flat;
 }
 
 } // namespace dgtest

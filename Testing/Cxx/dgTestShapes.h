@@ -4,9 +4,12 @@
 #ifndef dgTestShapes_h
 #define dgTestShapes_h
 
+#include <Eigen/Core>
+
 #include <vtkCommand.h>
 #include <vtkExecutive.h>
 #include <vtkImageData.h>
+#include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
 
@@ -48,6 +51,12 @@ vtkSmartPointer<vtkPolyData> FlatSquare(int nx, int ny, double jump, bool triang
 /// The line cells of a feature-edge output as (smaller id, larger id) pairs,
 /// sorted: two outputs on the same points compare edge for edge.
 std::vector<std::pair<vtkIdType, vtkIdType>> EdgePairs(vtkPolyData* lines);
+
+/// The centre (mean of its points) of every cell, in world coordinates.
+std::vector<Eigen::Vector3d> CellCentres(vtkPolyData* pd);
+
+/// A copy of the points pressed into the plane z = 0 (degenerate geometry).
+vtkSmartPointer<vtkPoints> FlattenedPoints(vtkPoints* points);
 
 /// Records errors and warnings emitted by a VTK object.
 class ErrorObserver : public vtkCommand
