@@ -11,6 +11,9 @@ DG_PACKAGES=(
   paraview paraview-dev python3-paraview libopenmpi-dev
   libeigen3-dev libsuitesparse-dev zlib1g-dev libgtest-dev
   xvfb xauth python3-numpy python3-pydicom python3-nibabel clang
+  # The program's DICOM reader (4 packages, 2 MiB download, 15 MiB installed;
+  # about 9 s of apt-get install on a fresh machine). Optional in CMake.
+  libgdcm-dev
   # find_package(ParaView) loads ParaView's whole VTK, whose CMake config
   # looks for these development packages (paraview-dev does not pull them).
   libdouble-conversion-dev liblz4-dev liblzma-dev libexpat1-dev libutfcpp-dev
