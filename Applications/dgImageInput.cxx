@@ -1,10 +1,11 @@
 #include "dgImageInput.h"
+#include "dgDicomSeries.h"
 
 #include "vtkDGtalVolReader.h"
 #include "vtkNIfTIVolumeReader.h"
 
 #include <vtkCallbackCommand.h>
-#include <vtkDICOMImageReader.h>
+#include <vtkMatrix3x3.h>
 #include <vtkDataArray.h>
 #include <vtkExecutive.h>
 #include <vtkMetaImageReader.h>
@@ -16,6 +17,7 @@
 #include <vtkXMLImageDataReader.h>
 #include <vtkXMLPImageDataReader.h>
 #include <vtkInformation.h>
+#include <vtkInformationVector.h>
 #include <vtkStreamingDemandDrivenPipeline.h>
 
 #include <sys/stat.h>
@@ -23,6 +25,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <initializer_list>
 #include <fstream>
 #include <sstream>
 #include <utility>
@@ -116,44 +120,207 @@ std::vector<double> Numbers(const std::string& text)
   return out;
 }
 
-// Geometry that VTK's MetaImage and NRRD readers ignore: refused with a
-// message rather than silently straightened (world coordinates would be
-// wrong). Empty when the file's geometry is what the reader produces.
-std::string UnsupportedGeometry(const std::string& path, bool nrrd)
+// The geometry of a MetaImage or NRRD header, which VTK's readers drop
+// (TransformMatrix, space directions, space): world = Origin + Direction ·
+// diag(Spacing) · index, in LPS (RAS when asked).
+struct HeaderGeometry
 {
-  for (const auto& f : HeaderFields(path, nrrd ? ':' : '='))
+  bool Has = false; // false: keep what VTK's reader gives (axis-aligned)
+  double Origin[3] = { 0, 0, 0 };
+  double Spacing[3] = { 1, 1, 1 };
+  double Direction[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 }; // row-major
+};
+
+std::string Lower(std::string v)
+{
+  std::transform(v.begin(), v.end(), v.begin(), [](unsigned char c) { return std::tolower(c); });
+  return v;
+}
+
+std::string Fmt(double v)
+{
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", v);
+  return buf;
+}
+
+// Direction and spacing from three axis vectors (columns): normalised
+// columns, their lengths; refused when one is zero or two are not at right
+// angles (a shear, which origin + direction + spacing cannot carry).
+std::string FromColumns(const double columns[3][3], const char* name, HeaderGeometry& g)
+{
+  double unit[3][3];
+  for (int a = 0; a < 3; ++a)
   {
-    if (!nrrd && (f.first == "transformmatrix" || f.first == "rotation" || f.first == "orientation"))
+    const double len = std::sqrt(columns[a][0] * columns[a][0] + columns[a][1] * columns[a][1] +
+      columns[a][2] * columns[a][2]);
+    if (!(len > 0) || !std::isfinite(len))
+      return std::string("its ") + name + " give axis " + std::to_string(a) + " no length";
+    for (int r = 0; r < 3; ++r)
+      unit[a][r] = columns[a][r] / len;
+    g.Spacing[a] *= len;
+  }
+  for (int a = 0; a < 3; ++a)
+    for (int b = a + 1; b < 3; ++b)
     {
-      const auto m = Numbers(f.second);
-      bool identity = m.size() == 9;
-      for (std::size_t i = 0; identity && i < 9; ++i)
-        identity = std::abs(m[i] - ((i % 4) == 0 ? 1.0 : 0.0)) < 1e-6;
-      if (!identity)
-        return "its " + f.first + " (" + f.second + ") turns or flips the voxel axes, which this reader "
-          "would drop: convert the volume to NIfTI (.nii.gz) or .vti with its direction";
+      const double c = unit[a][0] * unit[b][0] + unit[a][1] * unit[b][1] + unit[a][2] * unit[b][2];
+      if (std::abs(c) > 1e-4)
+        return std::string("its ") + name + " are sheared: axes " + std::to_string(a) + " and " +
+          std::to_string(b) + " at " + Fmt(std::acos(std::max(-1.0, std::min(1.0, c))) * 180 / M_PI) +
+          " degrees, not 90 (origin, spacing and direction cannot carry a shear)";
     }
-    if (nrrd && f.first == "space directions")
+  for (int r = 0; r < 3; ++r)
+    for (int a = 0; a < 3; ++a)
+      g.Direction[3 * r + a] = unit[a][r];
+  g.Has = true;
+  return "";
+}
+
+// Empty on success, else the problem (one line, without the file's name).
+std::string ReadHeaderGeometry(const std::string& path, bool nrrd, bool ras, HeaderGeometry& g)
+{
+  const auto fields = HeaderFields(path, nrrd ? ':' : '=');
+  auto field = [&](std::initializer_list<const char*> keys) -> const std::string* {
+    for (const char* k : keys)
+      for (const auto& f : fields)
+        if (f.first == k)
+          return &f.second;
+    return nullptr;
+  };
+  // The patient space the header is written in, as a flip of LPS.
+  double flip[3] = { 1, 1, 1 };
+  double columns[3][3];
+  if (!nrrd)
+  {
+    const std::string* ndims = field({ "ndims" });
+    if (!ndims || Numbers(*ndims) != std::vector<double>{ 3 })
+      return ""; // 2-D or 4-D: VTK's reader, as before
+    if (const std::string* o = field({ "offset", "origin", "position" }))
     {
-      const auto m = Numbers(f.second);
-      bool diagonal = m.size() == 9;
-      for (std::size_t i = 0; diagonal && i < 9; ++i)
-        diagonal = (i % 4) == 0 ? m[i] > 0 : std::abs(m[i]) < 1e-9;
-      if (!diagonal)
-        return "its space directions (" + f.second + ") turn or flip the voxel axes, which this reader "
-          "would drop: convert the volume to NIfTI (.nii.gz) or .vti with its direction";
+      const auto v = Numbers(*o);
+      if (v.size() != 3)
+        return "its Offset (" + *o + ") is not three numbers";
+      std::copy(v.begin(), v.end(), g.Origin);
     }
-    if (nrrd && f.first == "space")
+    if (const std::string* sp = field({ "elementspacing", "elementsize" }))
     {
-      std::string v = f.second;
-      std::transform(v.begin(), v.end(), v.begin(), [](unsigned char c) { return std::tolower(c); });
-      if (v != "left-posterior-superior" && v != "lps")
-        return "its space '" + f.second + "' is not LPS, the patient coordinates every other input "
-          "is read in: convert the volume to NIfTI (.nii.gz) or .vti";
+      const auto v = Numbers(*sp);
+      if (v.size() != 3)
+        return "its ElementSpacing (" + *sp + ") is not three numbers";
+      std::copy(v.begin(), v.end(), g.Spacing);
+    }
+    double m[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
+    if (const std::string* t = field({ "transformmatrix", "rotation", "orientation" }))
+    {
+      const auto v = Numbers(*t);
+      if (v.size() != 9)
+        return "its TransformMatrix (" + *t + ") is not nine numbers";
+      std::copy(v.begin(), v.end(), m);
+    }
+    // ITK's MetaImageIO: the i-th triple is the direction of axis i.
+    for (int a = 0; a < 3; ++a)
+      for (int r = 0; r < 3; ++r)
+        columns[a][r] = m[3 * a + r];
+    if (std::string why = FromColumns(columns, "TransformMatrix columns", g); !why.empty())
+      return why;
+  }
+  else
+  {
+    if (const std::string* space = field({ "space" }))
+    {
+      const std::string v = Lower(*space);
+      if (v == "left-posterior-superior" || v == "lps")
+        ;
+      else if (v == "right-anterior-superior" || v == "ras")
+        flip[0] = flip[1] = -1;
+      else if (v == "left-anterior-superior" || v == "las")
+        flip[1] = -1;
+      else
+        return "its space '" + *space + "' is not a patient space this reader converts to LPS "
+          "(left-posterior-superior, right-anterior-superior, left-anterior-superior)";
+    }
+    const std::string* dirs = field({ "space directions" });
+    if (!dirs)
+      return ""; // axis-aligned (spacings): VTK's reader, as before
+    std::vector<std::vector<double>> vectors;
+    for (std::size_t at = dirs->find('('); at != std::string::npos; at = dirs->find('(', at + 1))
+    {
+      const auto close = dirs->find(')', at);
+      if (close == std::string::npos)
+        return "its space directions (" + *dirs + ") are not 3-vectors in parentheses";
+      vectors.push_back(Numbers(dirs->substr(at + 1, close - at - 1)));
+    }
+    if (vectors.size() != 3 || std::any_of(vectors.begin(), vectors.end(), [](const auto& v) { return v.size() != 3; }))
+      return "its space directions (" + *dirs + ") are not three 3-vectors";
+    for (int a = 0; a < 3; ++a)
+      for (int r = 0; r < 3; ++r)
+        columns[a][r] = flip[r] * vectors[a][r];
+    if (const std::string* o = field({ "space origin" }))
+    {
+      const auto v = Numbers(*o);
+      if (v.size() != 3)
+        return "its space origin (" + *o + ") is not a 3-vector";
+      for (int r = 0; r < 3; ++r)
+        g.Origin[r] = flip[r] * v[r];
+    }
+    if (std::string why = FromColumns(columns, "space directions", g); !why.empty())
+      return why;
+  }
+  if (ras)
+  {
+    for (int r = 0; r < 2; ++r)
+    {
+      g.Origin[r] = -g.Origin[r];
+      for (int a = 0; a < 3; ++a)
+        g.Direction[3 * r + a] = -g.Direction[3 * r + a];
     }
   }
   return "";
 }
+
+// VTK's MetaImage or NRRD reader with the header's geometry put on its
+// output, in the pipeline information too, so that sub-extents (pieces)
+// keep it.
+template <class Base>
+class OrientedReader : public Base
+{
+public:
+  static OrientedReader* New()
+  {
+    auto* r = new OrientedReader;
+    r->InitializeObjectBase();
+    return r;
+  }
+  HeaderGeometry Geometry;
+
+protected:
+  int RequestInformation(vtkInformation* request, vtkInformationVector** in, vtkInformationVector* out) override
+  {
+    const int ok = Base::RequestInformation(request, in, out);
+    if (ok && this->Geometry.Has)
+    {
+      vtkInformation* info = out->GetInformationObject(0);
+      info->Set(vtkDataObject::ORIGIN(), this->Geometry.Origin, 3);
+      info->Set(vtkDataObject::SPACING(), this->Geometry.Spacing, 3);
+      info->Set(vtkDataObject::DIRECTION(), this->Geometry.Direction, 9);
+    }
+    return ok;
+  }
+  int RequestData(vtkInformation* request, vtkInformationVector** in, vtkInformationVector* out) override
+  {
+    const int ok = Base::RequestData(request, in, out);
+    if (this->Geometry.Has)
+    {
+      if (auto* image = vtkImageData::GetData(out))
+      {
+        image->SetOrigin(this->Geometry.Origin);
+        image->SetSpacing(this->Geometry.Spacing);
+        image->SetDirectionMatrix(this->Geometry.Direction);
+      }
+    }
+    return ok;
+  }
+};
 } // namespace
 
 std::string Extension(const std::string& path)
@@ -173,17 +340,11 @@ namespace
 {
 // The reader for path, configured but not run; nullptr with error set when
 // the file cannot be one of ours.
-vtkSmartPointer<vtkAlgorithm> MakeReader(const std::string& path, std::string& error, bool ras)
+vtkSmartPointer<vtkAlgorithm> MakeReader(const std::string& path, std::string& error, const ReadOptions& options)
 {
   vtkSmartPointer<vtkAlgorithm> reader;
   const std::string ext = Extension(path);
-  if (IsDirectory(path))
-  {
-    auto dicom = vtkSmartPointer<vtkDICOMImageReader>::New();
-    dicom->SetDirectoryName(path.c_str());
-    reader = dicom;
-  }
-  else if (!IsFile(path))
+  if (!IsFile(path))
   {
     error = "cannot open '" + path + "': no such file";
     return nullptr;
@@ -204,7 +365,7 @@ vtkSmartPointer<vtkAlgorithm> MakeReader(const std::string& path, std::string& e
       return nullptr;
     }
     r->SetFileName(path.c_str());
-    r->SetCoordinateSystem(ras ? vtkNIfTIVolumeReader::RAS : vtkNIfTIVolumeReader::LPS);
+    r->SetCoordinateSystem(options.Ras ? vtkNIfTIVolumeReader::RAS : vtkNIfTIVolumeReader::LPS);
     reader = r;
   }
   else if (ext == "vti")
@@ -222,13 +383,13 @@ vtkSmartPointer<vtkAlgorithm> MakeReader(const std::string& path, std::string& e
   }
   else if (ext == "mha" || ext == "mhd")
   {
-    auto r = vtkSmartPointer<vtkMetaImageReader>::New();
+    auto r = vtkSmartPointer<OrientedReader<vtkMetaImageReader>>::New();
     if (!r->CanReadFile(path.c_str()))
     {
       error = "'" + path + "' is not a readable MetaImage file";
       return nullptr;
     }
-    if (const std::string why = UnsupportedGeometry(path, false); !why.empty())
+    if (const std::string why = ReadHeaderGeometry(path, false, options.Ras, r->Geometry); !why.empty())
     {
       error = "cannot read '" + path + "': " + why;
       return nullptr;
@@ -238,23 +399,17 @@ vtkSmartPointer<vtkAlgorithm> MakeReader(const std::string& path, std::string& e
   }
   else if (ext == "nrrd" || ext == "nhdr")
   {
-    auto r = vtkSmartPointer<vtkNrrdReader>::New();
+    auto r = vtkSmartPointer<OrientedReader<vtkNrrdReader>>::New();
     if (!r->CanReadFile(path.c_str()))
     {
       error = "'" + path + "' is not a readable NRRD file";
       return nullptr;
     }
-    if (const std::string why = UnsupportedGeometry(path, true); !why.empty())
+    if (const std::string why = ReadHeaderGeometry(path, true, options.Ras, r->Geometry); !why.empty())
     {
       error = "cannot read '" + path + "': " + why;
       return nullptr;
     }
-    r->SetFileName(path.c_str());
-    reader = r;
-  }
-  else if (ext == "dcm")
-  {
-    auto r = vtkSmartPointer<vtkDICOMImageReader>::New();
     r->SetFileName(path.c_str());
     reader = r;
   }
@@ -280,13 +435,28 @@ std::string LastLine(std::string m)
 }
 } // namespace
 
-vtkSmartPointer<vtkImageData> ReadImage(const std::string& path, std::string& error, bool ras)
+vtkSmartPointer<vtkImageData> ReadImage(const std::string& path, std::string& error, const ReadOptions& options)
 {
+  if (IsDirectory(path) || Extension(path) == "dcm")
+  {
+    // DICOM: GDCM, the whole series at once.
+    vtkSmartPointer<vtkImageData> image = ReadDicom(path, options.DicomSeries, error);
+    if (image && options.Ras)
+    {
+      double o[3];
+      image->GetOrigin(o);
+      const double* d = image->GetDirectionMatrix()->GetData();
+      const double f[9] = { -d[0], -d[1], -d[2], -d[3], -d[4], -d[5], d[6], d[7], d[8] };
+      image->SetOrigin(-o[0], -o[1], o[2]);
+      image->SetDirectionMatrix(f);
+    }
+    return image;
+  }
   ErrorSink sink;
   vtkNew<vtkCallbackCommand> cb;
   cb->SetCallback(&ErrorSink::Callback);
   cb->SetClientData(&sink);
-  vtkSmartPointer<vtkAlgorithm> reader = MakeReader(path, error, ras);
+  vtkSmartPointer<vtkAlgorithm> reader = MakeReader(path, error, options);
   if (!reader)
   {
     return nullptr;
@@ -294,7 +464,7 @@ vtkSmartPointer<vtkImageData> ReadImage(const std::string& path, std::string& er
   reader->AddObserver(vtkCommand::ErrorEvent, cb);
   // vtkImageReader2 subclasses (NRRD, MetaImage raw) only *warn* when the
   // data is shorter than the header says, and return the partial volume.
-  const bool warningsFail = !reader->IsA("vtkDICOMImageReader");
+  const bool warningsFail = true;
   if (warningsFail)
   {
     reader->AddObserver(vtkCommand::WarningEvent, cb);
@@ -358,7 +528,7 @@ vtkSmartPointer<vtkImageData> ReadImage(const std::string& path, std::string& er
   return result;
 }
 
-vtkSmartPointer<vtkAlgorithm> OpenImagePieces(const std::string& path, std::string& error, bool ras)
+vtkSmartPointer<vtkAlgorithm> OpenImagePieces(const std::string& path, std::string& error, const ReadOptions& options)
 {
   error.clear();
   if (IsDirectory(path))
@@ -367,9 +537,9 @@ vtkSmartPointer<vtkAlgorithm> OpenImagePieces(const std::string& path, std::stri
   }
   if (Extension(path) == "dcm")
   {
-    return nullptr; // VTK's DICOM reader gives the whole volume only
+    return nullptr; // DICOM file: read whole
   }
-  vtkSmartPointer<vtkAlgorithm> reader = MakeReader(path, error, ras);
+  vtkSmartPointer<vtkAlgorithm> reader = MakeReader(path, error, options);
   if (!reader)
   {
     return nullptr;

@@ -1,7 +1,11 @@
 // Reads a segmented volume in any format the program accepts: DGtal .vol,
 // VTK .vti or .pvti, NIfTI .nii/.nii.gz (with its orientation, vtkNIfTIVolumeReader),
-// MetaImage .mha/.mhd, NRRD .nrrd/.nhdr, or a directory of DICOM slices.
-// Errors come back as one line, never as VTK's multi-line reports.
+// MetaImage .mha/.mhd (Offset, ElementSpacing, TransformMatrix) and NRRD
+// .nrrd/.nhdr (space origin, space directions, space) through VTK's readers
+// with the geometry read from their headers, or a DICOM series (directory)
+// or file through GDCM (dgDicomSeries.h). Patient-space inputs come out in
+// LPS, or RAS on request. Errors come back as one line, never as VTK's
+// multi-line reports.
 #ifndef dgImageInput_h
 #define dgImageInput_h
 
@@ -13,9 +17,18 @@
 
 namespace dg
 {
-/// Returns nullptr and sets error on failure. ras: NIfTI in its own RAS
-/// coordinates instead of LPS (DICOM's and ITK's).
-vtkSmartPointer<vtkImageData> ReadImage(const std::string& path, std::string& error, bool ras = false);
+struct ReadOptions
+{
+  /// Patient-space inputs (NIfTI, DICOM, MetaImage, NRRD) in RAS instead of
+  /// LPS (DICOM's and ITK's): world coordinates x and y negated.
+  bool Ras = false;
+  /// The DICOM series to read when a directory holds several (empty: the
+  /// only one, an error listing them otherwise).
+  std::string DicomSeries;
+};
+
+/// Returns nullptr and sets error on failure.
+vtkSmartPointer<vtkImageData> ReadImage(const std::string& path, std::string& error, const ReadOptions& options = {});
 
 /// For a run in pieces (several processes): the reader of path, its header
 /// read (UpdateInformation) but no voxel, when it can give any sub-extent
@@ -24,7 +37,7 @@ vtkSmartPointer<vtkImageData> ReadImage(const std::string& path, std::string& er
 /// CAN_PRODUCE_SUB_EXTENT). nullptr with error empty for a format read
 /// whole only (DICOM): use ReadImage then; nullptr with error set when the
 /// header is bad.
-vtkSmartPointer<vtkAlgorithm> OpenImagePieces(const std::string& path, std::string& error, bool ras = false);
+vtkSmartPointer<vtkAlgorithm> OpenImagePieces(const std::string& path, std::string& error, const ReadOptions& options = {});
 
 /// After the pipeline ran: false with error set when the reader's piece
 /// lacks its voxels (truncated or corrupt file).

@@ -58,7 +58,7 @@ struct Options
   dg::PipelineSettings P;
   // Outputs.
   bool Png = true, Panels = false, Ply = false, Obj = false, Quiet = false;
-  bool Ras = false; // NIfTI inputs in RAS instead of LPS
+  dg::ReadOptions Read; // LPS/RAS, DICOM series
   std::string Compression = "lz4";
   int Width = 1200, Height = 900;
   std::string Labels; // --labels: every label's surface in one run
@@ -76,10 +76,15 @@ Lachaud, Pacific Graphics 2016): volume -> voxel-face surface -> integral-
 invariant normals -> Ambrosio-Tortorelli regularisation -> files + picture.
 
 INPUT   a DGtal .vol (Version 2 or 3), VTK .vti or .pvti, NIfTI .nii/.nii.gz (its
-        sform or qform: outputs in LPS patient coordinates, or RAS with --ras),
-        MetaImage .mha/.mhd, NRRD .nrrd/.nhdr, a DICOM file (.dcm) or a
-        directory of DICOM slices. With no INPUT: a built-in shape (rotated
-        cube + sphere - cylinder, 96^3).
+        sform or qform), MetaImage .mha/.mhd (Offset, TransformMatrix), NRRD
+        .nrrd/.nhdr (space origin, space directions), a DICOM file (.dcm) or a
+        directory holding a DICOM series (slices ordered along their normal).
+        Patient-space inputs (NIfTI, MetaImage, NRRD, DICOM) give outputs in
+        LPS patient coordinates (DICOM's and ITK's), or RAS with --ras.
+        With no INPUT: a built-in shape (rotated cube + sphere - cylinder, 96^3).
+  --ras                  outputs in RAS (x and y negated) instead of LPS
+  --dicom-series UID     the series to read when the DICOM directory holds
+                         several (otherwise an error lists them)
 
 Inside voxels (default: value != 0)
   --label L              voxels whose value is L (label maps)
@@ -332,7 +337,9 @@ Options ParseOptions(int argc, char* argv[])
     else if (arg == "--interfaces")
       o.Interfaces = true;
     else if (arg == "--ras")
-      o.Ras = true;
+      o.Read.Ras = true;
+    else if (arg == "--dicom-series")
+      o.Read.DicomSeries = value();
     else if (arg == "--compression")
     {
       o.Compression = value();
@@ -724,9 +731,9 @@ int RunPieces(Options opt, dg::Processes& procs)
     else
     {
       if (opt.P.Noise <= 0)
-        reader = dg::OpenImagePieces(opt.Input, error, opt.Ras);
+        reader = dg::OpenImagePieces(opt.Input, error, opt.Read);
       if (!reader && error.empty())
-        image = dg::ReadImage(opt.Input, error, opt.Ras);
+        image = dg::ReadImage(opt.Input, error, opt.Read);
       if (prefix.empty())
         prefix = Stem(opt.Input);
     }
@@ -999,7 +1006,7 @@ int main(int argc, char* argv[])
   else
   {
     std::string error;
-    image = dg::ReadImage(opt.Input, error, opt.Ras);
+    image = dg::ReadImage(opt.Input, error, opt.Read);
     if (!image)
       return Fail(error);
     if (prefix.empty())

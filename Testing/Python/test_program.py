@@ -103,19 +103,22 @@ write("labels_detached.raw", voxels)
 inputs["nhdr"] = write("labels.nhdr", (nrrd_header + "data file: labels_detached.raw\n\n").encode())
 
 
-def write_dicom_series(folder):
-    """One CT-like slice per z (uint16, label 3 -> 1000), explicit VR little endian."""
+def write_dicom_series(folder, series=None, z=None, tilt=0.0, drop=(), prefix="slice"):
+    """One CT-like slice per z (uint16, label 3 -> 1000), explicit VR little
+    endian. z: slice positions (default 0, 1, ...); tilt: x shift per mm of
+    z (gantry tilt); drop: tags to leave out."""
     import pydicom
     from pydicom.dataset import FileDataset, FileMetaDataset
     from pydicom.uid import ExplicitVRLittleEndian, generate_uid
     os.makedirs(folder, exist_ok=True)
-    series = generate_uid()
+    series = series or generate_uid()
+    z = z or [float(k) for k in range(N)]
     for k in range(N):
         meta = FileMetaDataset()
         meta.MediaStorageSOPClassUID = "1.2.840.10008.5.1.4.1.1.2"
         meta.MediaStorageSOPInstanceUID = generate_uid()
         meta.TransferSyntaxUID = ExplicitVRLittleEndian
-        name = os.path.join(folder, "slice%03d.dcm" % k)
+        name = os.path.join(folder, "%s%03d.dcm" % (prefix, k))
         ds = FileDataset(name, {}, file_meta=meta, preamble=b"\0" * 128)
         ds.is_little_endian = True
         ds.is_implicit_VR = False
@@ -124,7 +127,7 @@ def write_dicom_series(folder):
         ds.SeriesInstanceUID = series
         ds.Modality = "CT"
         ds.InstanceNumber = k + 1
-        ds.ImagePositionPatient = [0.0, 0.0, float(k)]
+        ds.ImagePositionPatient = [tilt * z[k], 0.0, z[k]]
         ds.ImageOrientationPatient = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
         ds.PixelSpacing = [1.0, 1.0]
         ds.SliceThickness = 1.0
@@ -143,6 +146,8 @@ def write_dicom_series(folder):
             for i in range(N):
                 plane += struct.pack("<H", 1000 if value(i, j, k) == 3 else 0)
         ds.PixelData = bytes(plane)
+        for tag in drop:
+            delattr(ds, tag)
         ds.save_as(name, write_like_original=False)
 
 
@@ -202,20 +207,53 @@ bad_cases = [
     ("unknown option", ["--frobnicate"], 2),
     ("unknown solver", ["--solver", "gauss"], 2),
     ("unknown AT metric", ["--at-metric", "euclid"], 2),
-    ("oblique MetaImage", [write("oblique.mha", ("ObjectType = Image\nNDims = 3\nDimSize = %d %d %d\n"
-        "ElementSpacing = 1 1 1\nOffset = 0 0 0\nTransformMatrix = 0 1 0 -1 0 0 0 0 1\n"
+    ("sheared MetaImage", [write("sheared.mha", ("ObjectType = Image\nNDims = 3\nDimSize = %d %d %d\n"
+        "ElementSpacing = 1 1 1\nOffset = 0 0 0\nTransformMatrix = 1 0 0 0.3 1 0 0 0 1\n"
         "ElementType = MET_UCHAR\nElementDataFile = LOCAL\n" % (N, N, N)).encode() + voxels)], 1),
-    ("oblique NRRD", [write("oblique.nrrd", ("NRRD0004\ntype: uint8\ndimension: 3\nsizes: %d %d %d\n"
-        "space: left-posterior-superior\nspace directions: (0,1,0) (1,0,0) (0,0,1)\nencoding: raw\n\n"
+    ("sheared NRRD", [write("sheared.nrrd", ("NRRD0004\ntype: uint8\ndimension: 3\nsizes: %d %d %d\n"
+        "space: left-posterior-superior\nspace directions: (0,1,0) (1,0.5,0) (0,0,1)\nencoding: raw\n\n"
         % (N, N, N)).encode() + voxels)], 1),
-    ("RAS NRRD", [write("ras.nrrd", ("NRRD0004\ntype: uint8\ndimension: 3\nsizes: %d %d %d\n"
-        "space: right-anterior-superior\nspace directions: (1,0,0) (0,1,0) (0,0,1)\nencoding: raw\n\n"
+    ("NRRD direction of length 0", [write("flat.nrrd", ("NRRD0004\ntype: uint8\ndimension: 3\nsizes: %d %d %d\n"
+        "space: left-posterior-superior\nspace directions: (1,0,0) (0,0,0) (0,0,1)\nencoding: raw\n\n"
+        % (N, N, N)).encode() + voxels)], 1),
+    ("NRRD in a non-patient space", [write("scanner.nrrd", ("NRRD0004\ntype: uint8\ndimension: 3\nsizes: %d %d %d\n"
+        "space: scanner-xyz\nspace directions: (1,0,0) (0,1,0) (0,0,1)\nencoding: raw\n\n"
         % (N, N, N)).encode() + voxels)], 1),
     ("not a NIfTI file", [write("not-really.nii", b"not a nifti file at all")], 1),
     ("unknown compression", ["--compression", "bzip"], 2),
     ("negative component size", ["--min-component", "-1"], 2),
     ("fractional component size", ["--min-component", "2.5"], 2),
 ]
+if "dicom" in inputs:
+    from pydicom.uid import generate_uid
+    two, uid = os.path.join(ROOT, "dicom-two"), generate_uid()
+    write_dicom_series(two, prefix="a")
+    write_dicom_series(two, series=uid, prefix="b")
+    gaps = [float(k) for k in range(N // 2)] + [k + 1.0 for k in range(N // 2, N)]
+    for d in ("dicom-gap", "dicom-tilt", "dicom-no-iop", "dicom-no-ipp", "dicom-none"):
+        os.makedirs(os.path.join(ROOT, d), exist_ok=True)
+    write_dicom_series(os.path.join(ROOT, "dicom-gap"), z=gaps)
+    write_dicom_series(os.path.join(ROOT, "dicom-tilt"), tilt=0.2)
+    write_dicom_series(os.path.join(ROOT, "dicom-no-iop"), drop=("ImageOrientationPatient",))
+    write_dicom_series(os.path.join(ROOT, "dicom-no-ipp"), drop=("ImagePositionPatient",))
+    write(os.path.join("dicom-none", "notes.txt"), b"no DICOM here")
+    rng = ["--range", "500", "2000"]
+    bad_cases += [
+        ("DICOM: non-uniform slice spacing", [os.path.join(ROOT, "dicom-gap")] + rng, 1),
+        ("DICOM: gantry tilt (slices sheared)", [os.path.join(ROOT, "dicom-tilt")] + rng, 1),
+        ("DICOM: several series, no --dicom-series", [two] + rng, 1),
+        ("DICOM: --dicom-series names no series there", [two, "--dicom-series", "1.2.3"] + rng, 1),
+        ("DICOM: no ImageOrientationPatient", [os.path.join(ROOT, "dicom-no-iop")] + rng, 1),
+        ("DICOM: no ImagePositionPatient", [os.path.join(ROOT, "dicom-no-ipp")] + rng, 1),
+        ("DICOM: directory without DICOM files", [os.path.join(ROOT, "dicom-none")] + rng, 1),
+    ]
+    p, _ = run(two, "--no-png", "--dicom-series", uid, *rng)
+    check(p.returncode == 0, "DICOM: --dicom-series chooses one of two series (exit %d %s)"
+          % (p.returncode, p.stderr.strip()[-200:]))
+    p, _ = run(os.path.join(ROOT, "dicom-gap"), *rng)
+    check("dicom-gap" in p.stderr and "non-uniform slice spacing (1, 2 mm" in p.stderr,
+          "DICOM: the spacing error names the directory and the spacings: %r" % p.stderr.strip()[-240:])
+
 # The default output (sharp features) against the paper's (--plain), on a
 # small built-in shape: one line per edge, side normals active, and islands
 # reported.
