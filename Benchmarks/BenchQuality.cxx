@@ -14,6 +14,14 @@
 //   II-r3/4/8    vtkIINormalEstimator, radius 3, 4, 8 voxels
 //   AT(II4)      vtkAmbrosioTortorelliFilter on II r=4, alpha 0.05, lambda 0.01
 //   AT(II8)      vtkAmbrosioTortorelliFilter on II r=8, alpha 0.1,  lambda 0.01
+//   VCM          vtkVCMNormalEstimator, the paper's Fig. 5 parameters: offset
+//                radius R = 10, convolution radius r = 4 (voxels)
+//   RHT          vtkRHTNormalEstimator, the paper's Fig. 5 parameters: radius
+//                6, 648 trials (5 accumulators, resolution 10, seed 0: the
+//                filter's defaults)
+//   AT(VCM), AT(RHT)  vtkAmbrosioTortorelliFilter on VCMNormals / RHTNormals
+//                with AT(II4)'s parameters (alpha 0.05, lambda 0.01, eps 2 ->
+//                0.25), the paper's Fig. 5 AT
 //   program      the program's default pipeline (dg::Pipeline with default
 //                dg::PipelineSettings, Applications/dgPipeline.h) on the same
 //                noisy volume (its own noise off): islands and cavities below
@@ -49,9 +57,17 @@
 // (as for "near") is within 1 / 3 voxels of a true sharp edge. Triangle
 // centres for the VTK meshes, surfel centres otherwise.
 //
-// Features: AT's output port 1 (edges with v < 0.5 at both ends), the sharp
-// filter's port 1 (program) and vtkFeatureEdges (feature angle 30, feature
-// edges only) on the smoothed VTK mesh, all scored by
+// Features: AT's output port 1 (edges with v < 0.5 at both ends; AT(II4),
+// AT(II8), AT(VCM), AT(RHT)), the sharp filter's port 1 (program),
+// vtkFeatureEdges (feature angle 30, feature edges only) on the smoothed VTK
+// mesh, and the VCM feature score (paper Fig. 4) thresholded at T = 0.1,
+// 0.2, 0.3 (rows "VCM-T0.1" ...): a surfel is a feature surfel when its
+// VCMFeatureScore >= T, and a surface edge is a feature edge when every
+// surfel around it (two on a manifold edge) is a feature surfel, i.e. the
+// edges inside the above-T region, the analogue of AT's rule (an edge
+// whose two ends have v below the threshold). The region's boundary instead
+// would be two lines at the rims of the band, off the true edge by the
+// band's half width even for a perfect score. All scored by
 // dgtest::MeasureFeatures (issue 15's definitions, dgFeatureMetrics.h):
 // multiplicity = length of the segments whose midpoint is within 1.5 voxels
 // of a true sharp edge over the true edges' length; offset = mean distance of
@@ -67,7 +83,8 @@
 // Usage: BenchQuality [--sizes 64,128] [--noise 0,0.1,0.2,0.3,0.4,0.5]
 //          [--seeds 1,2] [--shapes
 //          sphere,cube,cubesphere,cylinder,octahedron,wedge]
-//          [--seeds-at 128:1] [--out PREFIX] [--check]
+//          [--seeds-at 128:1] [--out PREFIX] [--check] [--no-vtk]
+//          [--no-program] [--no-vcm-rht]
 //   --out PREFIX   writes PREFIX_normals.csv, PREFIX_features.csv,
 //   PREFIX_times.csv
 //                  (default ./quality)
@@ -80,6 +97,7 @@
 //   --at-iterations N  AT's MaximumIterations per epsilon level (default 5)
 //   --no-vtk       skips the VTK pipelines
 //   --no-program   skips the program rows
+//   --no-vcm-rht   skips the VCM, RHT, AT(VCM), AT(RHT) and VCM-T rows
 //   --save-volumes DIR  also writes each case's noisy volume (what every
 //                  method sees) as DIR/SHAPE-N-kK-sSEED.vti
 #include "dgFeatureMetrics.h"
@@ -89,6 +107,8 @@
 #include "vtkDigitalNoiseFilter.h"
 #include "vtkDigitalSurfaceFilter.h"
 #include "vtkIINormalEstimator.h"
+#include "vtkRHTNormalEstimator.h"
+#include "vtkVCMNormalEstimator.h"
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
@@ -109,6 +129,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -117,6 +138,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace
@@ -373,6 +395,65 @@ std::vector<V3> CellCentres(vtkPolyData* pd)
   return c;
 }
 
+// The VCM feature score as feature lines: the surface edges all of whose
+// surfels (two on a manifold edge, four on a non-manifold one) have a score
+// >= T; a boundary edge (one surfel) is never a feature edge. The lines
+// are 2-point segments on the surface's points.
+vtkSmartPointer<vtkPolyData> ScoreEdges(vtkPolyData* surface, const char* scoreName, double T)
+{
+  auto lines = vtkSmartPointer<vtkPolyData>::New();
+  lines->SetPoints(surface->GetPoints());
+  vtkNew<vtkCellArray> cells;
+  vtkDataArray* score = surface->GetCellData()->GetArray(scoreName);
+  if (!score)
+  {
+    std::fprintf(stderr, "missing cell array %s\n", scoreName);
+    lines->SetLines(cells);
+    return lines;
+  }
+  // edge (smaller point id, larger) -> (surfels, surfels at or above T)
+  std::unordered_map<std::uint64_t, std::pair<int, int>> edges;
+  edges.reserve(2 * surface->GetNumberOfCells());
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < surface->GetNumberOfCells(); ++c)
+  {
+    surface->GetCellPoints(c, ids);
+    const vtkIdType n = ids->GetNumberOfIds();
+    const bool above = score->GetComponent(c, 0) >= T;
+    for (vtkIdType j = 0; j < n; ++j)
+    {
+      std::uint64_t a = ids->GetId(j), b = ids->GetId((j + 1) % n);
+      if (a > b)
+        std::swap(a, b);
+      auto& e = edges[(a << 32) | b];
+      ++e.first;
+      e.second += above;
+    }
+  }
+  std::vector<std::uint64_t> keys;
+  for (const auto& e : edges)
+    if (e.second.first >= 2 && e.second.second == e.second.first)
+      keys.push_back(e.first);
+  std::sort(keys.begin(), keys.end()); // a deterministic cell order
+  for (std::uint64_t k : keys)
+  {
+    const vtkIdType pts[2] = { static_cast<vtkIdType>(k >> 32),
+      static_cast<vtkIdType>(k & 0xffffffffu) };
+    cells->InsertNextCell(2, pts);
+  }
+  lines->SetLines(cells);
+  return lines;
+}
+
+constexpr double VCMThresholds[] = { 0.1, 0.2, 0.3 };
+
+std::string ThresholdName(double T)
+{
+  std::ostringstream s;
+  s << "VCM-T" << T;
+  return s.str();
+}
+
 struct CaseResult
 {
   std::map<std::string, std::map<std::string, Stats>> Errors; // method -> region -> stats
@@ -474,6 +555,9 @@ struct Settings
 {
   std::vector<ATConfig> AT = { { 4, 0.05, 0.01, 0.25, "AT(II4)" },
     { 8, 0.1, 0.01, 0.25, "AT(II8)" } };
+  // AT on VCM and RHT: AT(II4)'s parameters (the paper's Fig. 5 AT)
+  ATConfig OtherAT = { 4, 0.05, 0.01, 0.25, "AT(II4)" };
+  bool OtherEstimators = true;
   bool VTK = true;
   bool Program = true;
   bool Check = false;
@@ -640,6 +724,73 @@ CaseResult RunCase(Output& out,
     res.Features[name] = fs;
   }
 
+  // --- the paper's other two input estimators (Fig. 5), AT on each with
+  // AT(II4)'s parameters, and the VCM feature score thresholded (Fig. 4)
+  if (settings.OtherEstimators)
+  {
+    t0 = Clock::now();
+    vtkNew<vtkVCMNormalEstimator> vcm;
+    vcm->SetInputData(surface);
+    vcm->SetSourceData(image);
+    vcm->SetOffsetRadius(10);
+    vcm->SetConvolutionRadius(4);
+    vcm->ComputeFeatureScoreOn();
+    vcm->Update();
+    WriteTime(out, row, "VCM", Seconds(t0), F);
+    WriteErrors(out, row, "VCM", truth, Normals(vcm->GetOutput(), "VCMNormals"), &res.Errors["VCM"]);
+    for (double T : VCMThresholds)
+    {
+      t0 = Clock::now();
+      auto lines = ScoreEdges(vcm->GetOutput(), "VCMFeatureScore", T);
+      const std::string name = ThresholdName(T);
+      WriteTime(out, row, name + " edges", Seconds(t0), lines->GetNumberOfLines());
+      const FeatureScore fs = ScoreFeatures(lines, shape);
+      WriteFeatures(out, row, name, fs);
+      res.Features[name] = fs;
+    }
+
+    t0 = Clock::now();
+    vtkNew<vtkRHTNormalEstimator> rht;
+    rht->SetInputData(surface);
+    rht->SetSourceData(image);
+    rht->SetRadius(6);
+    rht->SetNumberOfTrials(648);
+    rht->Update();
+    WriteTime(out, row, "RHT", Seconds(t0), F);
+    WriteErrors(out, row, "RHT", truth, Normals(rht->GetOutput(), "RHTNormals"), &res.Errors["RHT"]);
+
+    const ATConfig& p = settings.OtherAT;
+    const std::pair<std::string, vtkPolyData*> inputs[] = { { "VCM", vcm->GetOutput() },
+      { "RHT", rht->GetOutput() } };
+    for (const auto& in : inputs)
+    {
+      t0 = Clock::now();
+      vtkNew<vtkAmbrosioTortorelliFilter> at;
+      at->SetInputData(in.second);
+      const std::string array = in.first + "Normals";
+      at->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, array.c_str());
+      at->SetAlpha(p.Alpha);
+      at->SetLambda(p.Lambda);
+      at->SetEpsilonEnd(p.EpsilonEnd);
+      at->SetLinearSolver(settings.Solver);
+      at->SetMaximumIterations(settings.MaximumIterations);
+      at->Update();
+      const std::string name = "AT(" + in.first + ")";
+      WriteTime(out, row, name, Seconds(t0), F);
+      WriteErrors(out,
+        row,
+        name,
+        truth,
+        Normals(vtkPolyData::SafeDownCast(at->GetOutputDataObject(0)), "ATNormals"),
+        &res.Errors[name]);
+      FeatureScore fs =
+        ScoreFeatures(vtkPolyData::SafeDownCast(at->GetOutputDataObject(1)), shape);
+      fs.Iterations = at->GetNumberOfIterations();
+      WriteFeatures(out, row, name, fs);
+      res.Features[name] = fs;
+    }
+  }
+
   // --- the program's default pipeline, on the same noisy volume
   if (settings.Program)
     RunProgram(out, shape, image, row, settings, res);
@@ -723,6 +874,8 @@ int main(int argc, char* argv[])
       settings.VTK = false;
     else if (arg == "--no-program")
       settings.Program = false;
+    else if (arg == "--no-vcm-rht")
+      settings.OtherEstimators = false;
     else if (arg == "--save-volumes" && hasValue)
       settings.SaveVolumes = argv[++a];
     else if (arg == "--solver" && hasValue)
@@ -851,6 +1004,24 @@ int main(int argc, char* argv[])
             }
             std::printf("\n");
           }
+          if (settings.OtherEstimators)
+          {
+            // The paper's other estimators and AT on them, then the VCM
+            // score's feature lines (precision / recall).
+            std::printf("    near/away VCM %.1f/%.1f AT(VCM) %.1f/%.1f RHT %.1f/%.1f AT(RHT) "
+                        "%.1f/%.1f | P/R",
+              e("VCM", "near"), e("VCM", "away"), e("AT(VCM)", "near"), e("AT(VCM)", "away"),
+              e("RHT", "near"), e("RHT", "away"), e("AT(RHT)", "near"), e("AT(RHT)", "away"));
+            std::vector<std::string> fm = { "AT(VCM)", "AT(RHT)" };
+            for (double T : VCMThresholds)
+              fm.push_back(ThresholdName(T));
+            for (const auto& m : fm)
+            {
+              const auto& fs = r.Features.at(m);
+              std::printf(" %s %.2f/%.2f", m.c_str(), fs.Precision, fs.Recall);
+            }
+            std::printf("\n");
+          }
           for (const auto& cfg : settings.AT)
           {
             if (cfg.Name == "AT(II4)" || cfg.Name == "AT(II8)")
@@ -875,6 +1046,8 @@ int main(int argc, char* argv[])
               "AT(II8)", "VTK", "VTK-strong" };
             if (settings.Program)
               checked.insert(checked.end(), { "program", "program-plain" });
+            if (settings.OtherEstimators)
+              checked.insert(checked.end(), { "VCM", "RHT", "AT(VCM)", "AT(RHT)" });
             for (const char* m : checked)
             {
               const double all = e(m, "all");
@@ -883,6 +1056,30 @@ int main(int argc, char* argv[])
               if (!(all >= 0 && all < bound))
               {
                 std::fprintf(stderr, "check failed: %s mean error %g (bound %g)\n", m, all, bound);
+                out.CheckFailed = true;
+              }
+            }
+            if (settings.OtherEstimators && name != "sphere")
+            {
+              // Issue 19's feature rows: AT on VCM and RHT and the VCM score
+              // at T = 0.1 find most of the edges; a higher threshold keeps
+              // fewer edges (the above-T regions are nested).
+              for (const char* m : { "AT(VCM)", "AT(RHT)", "VCM-T0.1" })
+              {
+                const double recall = r.Features.at(m).Recall;
+                if (!(recall >= 0.5))
+                {
+                  std::fprintf(stderr, "check failed: %s recall %g (bound 0.5)\n", m, recall);
+                  out.CheckFailed = true;
+                }
+              }
+              const double l1 = r.Features.at("VCM-T0.1").Length,
+                           l2 = r.Features.at("VCM-T0.2").Length,
+                           l3 = r.Features.at("VCM-T0.3").Length;
+              if (!(l1 >= l2 && l2 >= l3 && l1 > 0))
+              {
+                std::fprintf(stderr, "check failed: VCM-T lengths %g, %g, %g not decreasing\n", l1,
+                  l2, l3);
                 out.CheckFailed = true;
               }
             }

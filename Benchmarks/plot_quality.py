@@ -5,7 +5,9 @@ Usage: /usr/bin/python3 Benchmarks/plot_quality.py [--docs DIR] PREFIX [PREFIX .
 
 Reads PREFIX_normals.csv, PREFIX_features.csv and PREFIX_times.csv written by
 BenchQuality, averages over seeds, writes DIR/quality_error.png,
-DIR/quality_features.png and DIR/quality_issue15.png, and replaces the text between the markers
+DIR/quality_features.png, DIR/quality_issue15.png, DIR/quality_estimators.png
+and DIR/quality_fig4.png (issue 19: VCM, RHT, AT on each; the VCM feature
+score against vtkFeatureEdges and AT's lines), and replaces the text between the markers
 <!-- BEGIN GENERATED --> and <!-- END GENERATED --> in DIR/quality.md (the
 rest of the file, the hand-written notes, is kept). Needs numpy and
 matplotlib only (Debian: python3-numpy, python3-matplotlib).
@@ -24,12 +26,22 @@ import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.ticker  # noqa: E402
 import numpy as np  # noqa: E402
 
-METHODS = ["trivial", "II-r3", "II-r4", "II-r8", "AT(II4)", "AT(II8)", "program-plain", "program",
-           "VTK", "VTK-strong"]
-FEATURE_METHODS = ["AT(II4)", "AT(II8)", "program-plain", "program", "VTK", "VTK-strong"]
+METHODS = ["trivial", "II-r3", "II-r4", "II-r8", "AT(II4)", "AT(II8)", "VCM", "AT(VCM)", "RHT", "AT(RHT)",
+           "program-plain", "program", "VTK", "VTK-strong"]
+FEATURE_METHODS = ["AT(II4)", "AT(II8)", "AT(VCM)", "AT(RHT)", "program-plain", "program", "VTK", "VTK-strong"]
+# The paper's Fig. 5 estimators (issue 19) and AT on each.
+PAPER_METHODS = ["II-r4", "AT(II4)", "VCM", "AT(VCM)", "RHT", "AT(RHT)"]
+# The paper's Fig. 4 comparison (issue 19): the VCM feature score at three
+# thresholds, vtkFeatureEdges on the VTK pipelines, and AT's lines.
+VCM_T = ["VCM-T0.1", "VCM-T0.2", "VCM-T0.3"]
+FIG4_METHODS = VCM_T + ["VTK", "VTK-strong", "AT(II4)", "AT(II8)", "AT(VCM)", "AT(RHT)", "program"]
+# The methods of the first plots (issues 4 and 15).
+PLOT_METHODS = ["trivial", "II-r3", "II-r4", "II-r8", "AT(II4)", "AT(II8)", "program-plain", "program",
+                "VTK", "VTK-strong"]
+PLOT_FEATURE_METHODS = ["AT(II4)", "AT(II8)", "program-plain", "program", "VTK", "VTK-strong"]
 # Methods built on AT (the program's rows are AT followed, or not, by the
 # sharp-features stage).
-AT_BASED = ("AT(II4)", "AT(II8)", "program-plain", "program")
+AT_BASED = ("AT(II4)", "AT(II8)", "AT(VCM)", "AT(RHT)", "program-plain", "program")
 # Issue 15's comparison: its shapes first, then the others.
 ISSUE15_METHODS = ["II-r4", "AT(II4)", "program-plain", "program", "VTK", "VTK-strong"]
 ISSUE15_SHAPES = ["cube", "octahedron", "cubesphere"]
@@ -234,6 +246,69 @@ def main():
                     w(f"| {s} | {k:g} | {m} | " + " | ".join(i15_cells([s], n, k, m)) + " |")
         w("")
 
+    # Issue 19: the paper's other estimators (Fig. 5) and the feature
+    # comparison (Fig. 4), per size.
+    for n in sizes:
+        kk = [k for k in noise[n] if k in (0.0, 0.3, 0.5)]
+        w(f"### The paper's estimators and AT on each, {n}³: near (d ≤ 2) / mid (2 < d ≤ 8) / far (d > 8); ≤ 1 voxel of an edge; all within 2 voxels of the surface")
+        w("")
+        w("Mean error (degrees) over the shapes with edges. 'near / mid / far' count every surfel, noise "
+          "islands included; '≤ 1' and 'surf.' are issue 15's unoriented errors on the surfels within 2 voxels "
+          "of the true surface (most islands drop out): within 1 voxel of an edge, and all of them. "
+          "Sphere: all surfels / issue 15's 'surf.'.")
+        w("")
+        w("| method | " + " | ".join(f"k={k:g} near / mid / far; ≤ 1; surf." for k in kk) + " | " +
+          " | ".join(f"sphere k={k:g}" for k in kk) + " |")
+        w("|---|" + "---:|" * (2 * len(kk)))
+        for m in PAPER_METHODS:
+            w(f"| {m} | " + " | ".join(
+                " / ".join(fmt(Eavg(edge_shapes, n, k, m, reg)) for reg in ("near", "mid", "far")) + "; " +
+                fmt(Eavg(edge_shapes, n, k, m, "edge1")) + "; " + fmt(Eavg(edge_shapes, n, k, m, "surface2"))
+                for k in kk) + " | " +
+              " | ".join(fmt(E("sphere", n, k, m, "all")) + " / " + fmt(E("sphere", n, k, m, "surface2"))
+                         for k in kk) + " |")
+        w("")
+        w(f"### Per shape, {n}³: the paper's estimators, mean error near / away, F1 of AT's lines")
+        w("")
+        w("| shape | k | " + " | ".join(PAPER_METHODS) + " | F1 AT(II4) | F1 AT(VCM) | F1 AT(RHT) |")
+        w("|---|---:|" + "---:|" * (len(PAPER_METHODS) + 3))
+        for s in shapes_present:
+            for k in noise[n]:
+                row = [fmt(E(s, n, k, m, "near")) + " / " + fmt(E(s, n, k, m, "away")) for m in PAPER_METHODS]
+                row += [fmt(Fs(s, n, k, m, "f1"), 2) for m in ("AT(II4)", "AT(VCM)", "AT(RHT)")]
+                w(f"| {s} | {k:g} | " + " | ".join(row) + " |")
+        w("")
+        w(f"### Feature detection (paper Fig. 4), {n}³: precision / recall / F1, mean over the shapes with edges")
+        w("")
+        w("VCM-T*: the edges whose surfels all have VCMFeatureScore ≥ T (VCM R = 10, r = 4); VTK, VTK-strong: "
+          "vtkFeatureEdges (30°) on the smoothed meshes; AT(…): AT's lines (v < 0.5 at both ends); program: "
+          "the sharp-features stage's lines. Multiplicity in brackets (detected length near an edge over the "
+          "true length: 1–1.7 is one line).")
+        w("")
+        w("| method | " + " | ".join(f"k={k:g}" for k in noise[n]) + " |")
+        w("|---|" + "---:|" * len(noise[n]))
+        for m in FIG4_METHODS:
+            w(f"| {m} | " + " | ".join(
+                fmt(Favg(edge_shapes, n, k, m, "precision"), 2) + " / " +
+                fmt(Favg(edge_shapes, n, k, m, "recall"), 2) + " / " +
+                fmt(Favg(edge_shapes, n, k, m, "f1"), 2) + " (" +
+                fmt(Favg(edge_shapes, n, k, m, "multiplicity"), 1) + ")" for k in noise[n]) + " |")
+        if "sphere" in shapes_present:
+            w("| false length on the sphere (voxels): |" + " |" * len(noise[n]))
+            for m in FIG4_METHODS:
+                w(f"| {m} | " + " | ".join(fmt(Fs("sphere", n, k, m, "length"), 0) for k in noise[n]) + " |")
+        w("")
+        w(f"### Feature detection per shape, {n}³: precision / recall")
+        w("")
+        w("| shape | k | " + " | ".join(FIG4_METHODS) + " |")
+        w("|---|---:|" + "---:|" * len(FIG4_METHODS))
+        for s in edge_shapes:
+            for k in noise[n]:
+                w(f"| {s} | {k:g} | " + " | ".join(
+                    fmt(Fs(s, n, k, m, "precision"), 2) + " / " + fmt(Fs(s, n, k, m, "recall"), 2)
+                    for m in FIG4_METHODS) + " |")
+        w("")
+
     # Per shape, per size, every k: mean near / away and F1 for the main methods.
     for n in sizes:
         w(f"### Per shape, {n}³: mean error near / away, feature F1")
@@ -253,7 +328,7 @@ def main():
     w("### Expected outcome, checked: best method per case for k ≥ 0.2")
     w("")
     w("Lowest mean error near edges, lowest away, best F1 (ties to the first listed). "
-      "'AT-based' = AT(II4), AT(II8), program-plain or program.")
+      "'AT-based' = AT(II4), AT(II8), AT(VCM), AT(RHT), program-plain or program.")
     w("")
     w("| n | shape | k | best near | best away | best F1 |")
     w("|---:|---|---:|---|---|---|")
@@ -308,9 +383,9 @@ def main():
         fmt(mean(cells.get((n, k, "VTK flying edges"), [])), 0) for n, k in tk) + " |")
     w("| surfels (program, islands removed) | " + " | ".join(
         fmt(mean(cells.get((n, k, "program digital surface"), [])), 0) for n, k in tk) + " |")
-    w("| AT(II4) / AT(II8) / program iterations | " + " | ".join(
+    w("| AT(II4) / AT(II8) / AT(VCM) / AT(RHT) / program iterations | " + " | ".join(
         " / ".join(fmt(mean([x for s in shapes_present for x in feat.get((s, n, k, m), {}).get("iterations", [])]), 0)
-                   for m in ("AT(II4)", "AT(II8)", "program"))
+                   for m in ("AT(II4)", "AT(II8)", "AT(VCM)", "AT(RHT)", "program"))
         for n, k in tk) + " |")
     w("")
 
@@ -320,13 +395,16 @@ def main():
     styles = {"trivial": ("0.6", ":"), "II-r3": ("tab:olive", "--"), "II-r4": ("tab:green", "--"),
               "II-r8": ("tab:cyan", "--"), "AT(II4)": ("tab:red", "-"), "AT(II8)": ("tab:purple", "-"),
               "program-plain": ("tab:brown", "-"), "program": ("black", "-"),
-              "VTK": ("tab:blue", "-."), "VTK-strong": ("tab:orange", "-.")}
+              "VTK": ("tab:blue", "-."), "VTK-strong": ("tab:orange", "-."),
+              "VCM": ("tab:pink", "--"), "AT(VCM)": ("tab:pink", "-"), "RHT": ("tab:gray", "--"),
+              "AT(RHT)": ("tab:gray", "-"), "VCM-T0.1": ("tab:pink", ":"), "VCM-T0.2": ("darkmagenta", ":"),
+              "VCM-T0.3": ("indigo", ":")}
     fig, axes = plt.subplots(1, 3, figsize=(11, 3.4), dpi=80)
     panels = [("near", edge_shapes, "near sharp edges"), ("away", edge_shapes, "away from edges")]
     if "sphere" in shapes_present:
         panels.append(("all", ["sphere"], "sphere"))
     for ax, (region, shp, title) in zip(axes, panels):
-        for m in METHODS:
+        for m in PLOT_METHODS:
             c, ls = styles[m]
             ax.plot(ks, [Eavg(shp, main_n, k, m, region) for k in ks], ls, color=c, marker=".", label=m)
         ax.set_title(f"{title} ({main_n}³)", fontsize=10)
@@ -346,7 +424,7 @@ def main():
 
     fig, axes = plt.subplots(1, 3, figsize=(11, 3.2), dpi=80)
     for ax, stat in zip(axes, ("precision", "recall", "f1")):
-        for m in FEATURE_METHODS:
+        for m in PLOT_FEATURE_METHODS:
             c, ls = styles[m]
             ax.plot(ks, [Favg(edge_shapes, main_n, k, m, stat) for k in ks], ls, color=c, marker=".", label=m)
         ax.set_title(f"feature {stat} ({main_n}³, shapes with edges)", fontsize=10)
@@ -365,7 +443,7 @@ def main():
                   (("feature", "recall"), "recall"), (("normal", "edge1"), "mean error ≤ 1 voxel of an edge (deg)")]
         for ax, ((kind, stat), title) in zip(axes, panels):
             for m in ISSUE15_METHODS:
-                if kind == "feature" and m not in FEATURE_METHODS:
+                if kind == "feature" and m not in PLOT_FEATURE_METHODS:
                     continue
                 c, ls = styles[m]
                 ys = [Favg(i15_shapes, main_n, k, m, stat) if kind == "feature" else Eavg(i15_shapes, main_n, k, m, stat)
@@ -388,6 +466,46 @@ def main():
         fig.savefig(os.path.join(args.docs, "quality_issue15.png"))
         plt.close(fig)
 
+    # Issue 19: the paper's estimators (near, away, sphere) and the feature
+    # comparison (precision, recall, F1), one row per size.
+    fig, axes = plt.subplots(len(sizes), 3, figsize=(11, 3.2 * len(sizes)), dpi=80, squeeze=False)
+    for row, n in zip(axes, sizes):
+        kn = noise[n]
+        panels = [("near", edge_shapes, "near sharp edges"), ("far", edge_shapes, "far from edges (d > 8)"),
+                  ("all", ["sphere"], "sphere")]
+        for ax, (region, shp, title) in zip(row, panels):
+            for m in PAPER_METHODS:
+                c, ls = styles[m]
+                ax.plot(kn, [Eavg(shp, n, k, m, region) for k in kn], ls, color=c, marker=".", label=m)
+            ax.set_title(f"{title} ({n}³)", fontsize=10)
+            ax.set_xlabel("noise k")
+            ax.set_yscale("log")
+            ax.yaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+            ax.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+            ax.set_yticks([0.5, 1, 2, 5, 10, 20, 50])
+            ax.grid(True, which="both", alpha=0.3)
+        row[0].set_ylabel("mean angular error (deg)")
+    axes[0][2].legend(fontsize=7, loc="upper left", ncol=2)
+    fig.tight_layout()
+    fig.savefig(os.path.join(args.docs, "quality_estimators.png"))
+    plt.close(fig)
+
+    fig, axes = plt.subplots(len(sizes), 3, figsize=(11, 3.2 * len(sizes)), dpi=80, squeeze=False)
+    for row, n in zip(axes, sizes):
+        kn = noise[n]
+        for ax, stat in zip(row, ("precision", "recall", "f1")):
+            for m in FIG4_METHODS:
+                c, ls = styles[m]
+                ax.plot(kn, [Favg(edge_shapes, n, k, m, stat) for k in kn], ls, color=c, marker=".", label=m)
+            ax.set_title(f"feature {stat} ({n}³, shapes with edges)", fontsize=10)
+            ax.set_xlabel("noise k")
+            ax.set_ylim(0, 1.02)
+            ax.grid(True, alpha=0.3)
+    axes[0][0].legend(fontsize=7, ncol=2)
+    fig.tight_layout()
+    fig.savefig(os.path.join(args.docs, "quality_fig4.png"))
+    plt.close(fig)
+
     md = os.path.join(args.docs, "quality.md")
     text = open(md).read() if os.path.exists(md) else f"# Quality benchmark\n\n{BEGIN}\n{END}\n"
     if BEGIN not in text or END not in text:
@@ -396,7 +514,8 @@ def main():
     _, tail = rest.split(END, 1)
     with open(md, "w") as f:
         f.write(head + BEGIN + "\n" + "\n".join(out) + "\n" + END + tail)
-    print(f"wrote {md}, quality_error.png, quality_features.png, quality_issue15.png in {args.docs}")
+    print(f"wrote {md}, quality_error.png, quality_features.png, quality_issue15.png, "
+          f"quality_estimators.png, quality_fig4.png in {args.docs}")
     return 0
 
 
