@@ -95,6 +95,7 @@ public:
   static constexpr int CellsPerSide = 32;
   /// A pool of max(MinimumPool, accumulators) rotations.
   static constexpr int MinimumPool = 32;
+  static constexpr int NumberOfCells() { return 3 * CellsPerSide * CellsPerSide; }
   void Build(int resolution, int accumulators, std::uint64_t seed);
   int NumberOfBins() const { return this->Accumulator.NumberOfBins(); }
   int NumberOfAccumulators() const { return this->A; }
@@ -150,16 +151,22 @@ struct RHTParameters
   std::uint64_t Seed = 0;
 };
 
+/// The trials of one cube-map cell.
+struct RHTCellSum
+{
+  double Sum[3] = { 0, 0, 0 }; // unit normals, largest component positive
+  std::int32_t Count = 0;
+};
+
 /// Scratch memory of one thread.
 struct RHTWorkspace
 {
   std::vector<std::int32_t> Points;
-  std::vector<double> Normals;      // 3 per valid trial
-  std::vector<std::int32_t> Cells;  // per valid trial: its cube-map cell
-  std::vector<std::uint8_t> Flips;  // per valid trial: 1 when its cell flipped it
-  std::vector<std::uint16_t> Votes; // per accumulator and valid trial: table entry
-  std::vector<std::int32_t> Counts; // per accumulator and bin
-  std::vector<int> Pool;            // rotation indices (the surfel's picks first)
+  std::vector<RHTCellSum> Slots;      // per cube-map cell; all zero between surfels
+  std::vector<std::int32_t> Touched;  // the distinct cells of the trials, first trial first
+  std::vector<std::uint16_t> Entries; // per distinct cell: the accumulator's table entry
+  std::vector<std::int32_t> Counts;   // per bin; all zero between accumulators
+  std::vector<int> Pool;              // rotation indices (the surfel's picks first)
 };
 
 struct RHTEstimate
