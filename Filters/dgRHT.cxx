@@ -424,11 +424,12 @@ void EstimateRHT(const std::int32_t* points, int numberOfPoints, const double re
     {
       continue; // collinear: the only degenerate triangles of surfel centres
     }
+    std::int64_t major;
+    const int cell = HoughTables::Cell(cr, major);
     const double v[3] = { static_cast<double>(cr[0]), static_cast<double>(cr[1]),
       static_cast<double>(cr[2]) };
-    int flip;
-    const int cell = HoughTables::Cell(v[0], v[1], v[2], flip);
-    const double inv = flip / std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    const double inv = std::copysign(
+      1.0 / std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), static_cast<double>(major));
     RHTCellSum& slot = slots[cell];
     // A cell's first trial lists it, without a branch.
     touched[distinct] = cell;
@@ -458,16 +459,15 @@ void EstimateRHT(const std::int32_t* points, int numberOfPoints, const double re
   for (int a = 0; a < A; ++a)
   {
     const std::uint16_t* table = tables.Table(pool[a]);
+    // The winner as the counts grow: counts only grow, so the bins that
+    // reach the largest final count are all seen reaching it.
+    int best = bins, bestCount = 0;
     for (int d = 0; d < distinct; ++d)
     {
       const std::uint16_t e = table[touched[d]];
       entries[d] = e;
-      counts[e >> 1] += slots[touched[d]].Count;
-    }
-    int best = bins, bestCount = 0;
-    for (int d = 0; d < distinct; ++d)
-    {
-      const int b = entries[d] >> 1, c = counts[b];
+      const int b = e >> 1;
+      const int c = (counts[b] += slots[touched[d]].Count);
       if (c > bestCount || (c == bestCount && b < best))
       {
         best = b;

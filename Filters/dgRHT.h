@@ -109,30 +109,29 @@ public:
   {
     return this->Tables.data() + static_cast<std::size_t>(a) * 3 * CellsPerSide * CellsPerSide;
   }
-  /// The cell of a non-zero vector; `flip` is -1 when the vector was
-  /// negated to make its largest component positive, else 1.
-  static int Cell(double x, double y, double z, int& flip)
+  /// The cell of a non-zero integer vector, and its largest component in
+  /// absolute value (the first of x, y, z among equals), signed: the
+  /// direction is flipped when that component is negative. Integer selects
+  /// in place of branches: the face and the sign of a random normal are
+  /// coin tosses that a branch predictor loses.
+  static int Cell(const std::int64_t c[3], std::int64_t& major)
   {
-    const double ax = std::abs(x), ay = std::abs(y), az = std::abs(z);
-    int face;
-    double m, u, v;
-    if (ax >= ay && ax >= az)
-    {
-      face = 0, m = x, u = y, v = z;
-    }
-    else if (ay >= az)
-    {
-      face = 1, m = y, u = z, v = x;
-    }
-    else
-    {
-      face = 2, m = z, u = x, v = y;
-    }
-    flip = m < 0 ? -1 : 1;
-    const double h = 0.5 * CellsPerSide / std::abs(m);
-    const double c = 0.5 * CellsPerSide;
-    const int iu = std::min(CellsPerSide - 1, static_cast<int>(flip * u * h + c));
-    const int iv = std::min(CellsPerSide - 1, static_cast<int>(flip * v * h + c));
+    const std::int64_t ax = c[0] < 0 ? -c[0] : c[0];
+    const std::int64_t ay = c[1] < 0 ? -c[1] : c[1];
+    const std::int64_t az = c[2] < 0 ? -c[2] : c[2];
+    const bool isX = ax >= ay && ax >= az;
+    const bool isY = !isX && ay >= az;
+    const int face = isX ? 0 : (isY ? 1 : 2);
+    // (m, u, v) = (x, y, z), (y, z, x) or (z, x, y).
+    const std::int64_t m = isX ? c[0] : (isY ? c[1] : c[2]);
+    const std::int64_t u = isX ? c[1] : (isY ? c[2] : c[0]);
+    const std::int64_t v = isX ? c[2] : (isY ? c[0] : c[1]);
+    major = m;
+    // u / m in [-1, 1] after the flip; the flip is in the sign of m.
+    const double h = 0.5 * CellsPerSide / static_cast<double>(m);
+    const double o = 0.5 * CellsPerSide;
+    const int iu = std::min(CellsPerSide - 1, static_cast<int>(static_cast<double>(u) * h + o));
+    const int iv = std::min(CellsPerSide - 1, static_cast<int>(static_cast<double>(v) * h + o));
     return (face * CellsPerSide + iv) * CellsPerSide + iu;
   }
 
