@@ -460,20 +460,19 @@ void EstimateRHT(const std::int32_t* points, int numberOfPoints, const double re
   {
     const std::uint16_t* table = tables.Table(pool[a]);
     // The winner as the counts grow: counts only grow, so the bins that
-    // reach the largest final count are all seen reaching it.
-    int best = bins, bestCount = 0;
+    // reach the largest final count are all seen reaching it. One key per
+    // (count, bin), larger for more votes and then for a lower bin: a max
+    // without a branch (which bin wins is a coin toss for the predictor).
+    std::int64_t bestKey = -1;
     for (int d = 0; d < distinct; ++d)
     {
       const std::uint16_t e = table[touched[d]];
       entries[d] = e;
       const int b = e >> 1;
-      const int c = (counts[b] += slots[touched[d]].Count);
-      if (c > bestCount || (c == bestCount && b < best))
-      {
-        best = b;
-        bestCount = c;
-      }
+      const std::int64_t c = (counts[b] += slots[touched[d]].Count);
+      bestKey = std::max(bestKey, (c << 16) | (0xFFFF - b));
     }
+    const int best = 0xFFFF - static_cast<int>(bestKey & 0xFFFF);
     double sum[3] = { 0, 0, 0 };
     for (int d = 0; d < distinct; ++d)
     {

@@ -119,13 +119,14 @@ public:
     const std::int64_t ax = c[0] < 0 ? -c[0] : c[0];
     const std::int64_t ay = c[1] < 0 ? -c[1] : c[1];
     const std::int64_t az = c[2] < 0 ? -c[2] : c[2];
-    const bool isX = ax >= ay && ax >= az;
-    const bool isY = !isX && ay >= az;
-    const int face = isX ? 0 : (isY ? 1 : 2);
+    // The face from sign bits (-1 or 0), so that no compiler turns it into
+    // a branch.
+    const std::int64_t notX = ((ax - ay) >> 63) | ((ax - az) >> 63);
+    const std::int64_t notY = (ay - az) >> 63;
+    const int face = static_cast<int>(-notX - (notX & notY));
     // (m, u, v) = (x, y, z), (y, z, x) or (z, x, y).
-    const std::int64_t m = isX ? c[0] : (isY ? c[1] : c[2]);
-    const std::int64_t u = isX ? c[1] : (isY ? c[2] : c[0]);
-    const std::int64_t v = isX ? c[2] : (isY ? c[0] : c[1]);
+    const std::int64_t w[5] = { c[0], c[1], c[2], c[0], c[1] };
+    const std::int64_t m = w[face], u = w[face + 1], v = w[face + 2];
     major = m;
     // u / m in [-1, 1] after the flip; the flip is in the sign of m.
     const double h = 0.5 * CellsPerSide / static_cast<double>(m);
