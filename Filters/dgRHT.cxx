@@ -365,6 +365,57 @@ std::uint64_t SurfelSeed(std::uint64_t seed, std::int64_t i, std::int64_t j, std
   return Mix(h ^ static_cast<std::uint64_t>(d));
 }
 
+namespace
+{
+// T valid triplets of the n points (at most 10 T draws), gathered per
+// cube-map cell: count and sum of unit normals (largest component positive);
+// touched lists the cells in the order of their first trial. I: the
+// integer type of the cross products. Returns the number of valid trials.
+template <typename I>
+int GatherTrials(const std::int32_t* points, int n, int T, Generator& g, RHTCellSum* slots,
+  std::int32_t* touched, int& distinct)
+{
+  int valid = 0;
+  const std::int64_t maxDraws = 10 * static_cast<std::int64_t>(T);
+  const std::uint32_t un = static_cast<std::uint32_t>(n);
+  for (std::int64_t draw = 0; draw < maxDraws && valid < T; ++draw)
+  {
+    const std::uint32_t a = g.Below(un), b = g.Below(un), c = g.Below(un);
+    if (a == b || b == c || a == c)
+    {
+      continue;
+    }
+    const std::int32_t* pa = points + 3 * a;
+    const std::int32_t* pb = points + 3 * b;
+    const std::int32_t* pc = points + 3 * c;
+    const I e1[3] = { pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2] };
+    const I e2[3] = { pc[0] - pa[0], pc[1] - pa[1], pc[2] - pa[2] };
+    const I cr[3] = { e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+      e1[0] * e2[1] - e1[1] * e2[0] };
+    if (cr[0] == 0 && cr[1] == 0 && cr[2] == 0)
+    {
+      continue; // collinear: the only degenerate triangles of surfel centres
+    }
+    I major;
+    const int cell = HoughTables::Cell(cr, major);
+    const double v[3] = { static_cast<double>(cr[0]), static_cast<double>(cr[1]),
+      static_cast<double>(cr[2]) };
+    const double inv = std::copysign(
+      1.0 / std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), static_cast<double>(major));
+    RHTCellSum& slot = slots[cell];
+    // A cell's first trial lists it, without a branch.
+    touched[distinct] = cell;
+    distinct += slot.Count == 0;
+    ++slot.Count;
+    slot.Sum[0] += v[0] * inv;
+    slot.Sum[1] += v[1] * inv;
+    slot.Sum[2] += v[2] * inv;
+    ++valid;
+  }
+  return valid;
+}
+} // namespace
+
 void EstimateRHT(const std::int32_t* points, int numberOfPoints, const double reference[3],
   const RHTParameters& parameters, std::uint64_t surfelSeed, const HoughTables& tables,
   RHTWorkspace& work, RHTEstimate& out)
@@ -403,43 +454,16 @@ void EstimateRHT(const std::int32_t* points, int numberOfPoints, const double re
   RHTCellSum* slots = work.Slots.data();
   std::int32_t* touched = work.Touched.data();
   int distinct = 0;
-  int valid = 0;
-  const std::int64_t maxDraws = 10 * static_cast<std::int64_t>(T);
-  const std::uint32_t un = static_cast<std::uint32_t>(n);
-  for (std::int64_t draw = 0; draw < maxDraws && valid < T; ++draw)
+  // Cross products of doubled offsets up to M in absolute value stay below
+  // 8 M^2: 32-bit arithmetic up to M = 16383 (r up to about 8000 voxels).
+  std::int32_t reach = 0;
+  for (int q = 0; q < 3 * n; ++q)
   {
-    const std::uint32_t a = g.Below(un), b = g.Below(un), c = g.Below(un);
-    if (a == b || b == c || a == c)
-    {
-      continue;
-    }
-    const std::int32_t* pa = points + 3 * a;
-    const std::int32_t* pb = points + 3 * b;
-    const std::int32_t* pc = points + 3 * c;
-    const std::int64_t e1[3] = { pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2] };
-    const std::int64_t e2[3] = { pc[0] - pa[0], pc[1] - pa[1], pc[2] - pa[2] };
-    const std::int64_t cr[3] = { e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-      e1[0] * e2[1] - e1[1] * e2[0] };
-    if (cr[0] == 0 && cr[1] == 0 && cr[2] == 0)
-    {
-      continue; // collinear: the only degenerate triangles of surfel centres
-    }
-    std::int64_t major;
-    const int cell = HoughTables::Cell(cr, major);
-    const double v[3] = { static_cast<double>(cr[0]), static_cast<double>(cr[1]),
-      static_cast<double>(cr[2]) };
-    const double inv = std::copysign(
-      1.0 / std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), static_cast<double>(major));
-    RHTCellSum& slot = slots[cell];
-    // A cell's first trial lists it, without a branch.
-    touched[distinct] = cell;
-    distinct += slot.Count == 0;
-    ++slot.Count;
-    slot.Sum[0] += v[0] * inv;
-    slot.Sum[1] += v[1] * inv;
-    slot.Sum[2] += v[2] * inv;
-    ++valid;
+    reach = std::max(reach, points[q] < 0 ? -points[q] : points[q]);
   }
+  const int valid = reach <= 16383
+    ? GatherTrials<std::int32_t>(points, n, T, g, slots, touched, distinct)
+    : GatherTrials<std::int64_t>(points, n, T, g, slots, touched, distinct);
   if (valid == 0)
   {
     Fallback(reference, n, out);

@@ -114,19 +114,21 @@ public:
   /// direction is flipped when that component is negative. Integer selects
   /// in place of branches: the face and the sign of a random normal are
   /// coin tosses that a branch predictor loses.
-  static int Cell(const std::int64_t c[3], std::int64_t& major)
+  template <typename I>
+  static int Cell(const I c[3], I& major)
   {
-    const std::int64_t ax = c[0] < 0 ? -c[0] : c[0];
-    const std::int64_t ay = c[1] < 0 ? -c[1] : c[1];
-    const std::int64_t az = c[2] < 0 ? -c[2] : c[2];
+    constexpr int signBit = 8 * sizeof(I) - 1;
+    const I ax = c[0] < 0 ? -c[0] : c[0];
+    const I ay = c[1] < 0 ? -c[1] : c[1];
+    const I az = c[2] < 0 ? -c[2] : c[2];
     // The face from sign bits (-1 or 0), so that no compiler turns it into
     // a branch.
-    const std::int64_t notX = ((ax - ay) >> 63) | ((ax - az) >> 63);
-    const std::int64_t notY = (ay - az) >> 63;
+    const I notX = ((ax - ay) >> signBit) | ((ax - az) >> signBit);
+    const I notY = (ay - az) >> signBit;
     const int face = static_cast<int>(-notX - (notX & notY));
     // (m, u, v) = (x, y, z), (y, z, x) or (z, x, y).
-    const std::int64_t w[5] = { c[0], c[1], c[2], c[0], c[1] };
-    const std::int64_t m = w[face], u = w[face + 1], v = w[face + 2];
+    const I w[5] = { c[0], c[1], c[2], c[0], c[1] };
+    const I m = w[face], u = w[face + 1], v = w[face + 2];
     major = m;
     // u / m in [-1, 1] after the flip; the flip is in the sign of m.
     const double h = 0.5 * CellsPerSide / static_cast<double>(m);
