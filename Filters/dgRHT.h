@@ -84,11 +84,11 @@ private:
 /// z >= 0. Each surfel turns its A accumulators by A distinct rotations of
 /// the pool, picked with its own generator, so that neighbouring surfels
 /// mostly use different ones. A vote is then one cell computation per
-/// normal and one load per accumulator, in place of a rotation, a fold, a
-/// band search and an atan2. The cube map covers half the sphere: a
-/// direction is first flipped so that its largest component (in absolute
-/// value) is positive, n and -n being one plane. Cells: CellsPerSide^2 per
-/// face, 3 faces.
+/// normal and one load per accumulator and distinct cell, in place of a
+/// rotation, a fold, a band search and an atan2. The cube map covers half
+/// the sphere: a direction is first flipped so that its largest component
+/// (in absolute value) is positive, n and -n being one plane. Cells:
+/// CellsPerSide^2 per face, 3 faces.
 class HoughTables
 {
 public:
