@@ -365,6 +365,57 @@ std::uint64_t SurfelSeed(std::uint64_t seed, std::int64_t i, std::int64_t j, std
   return Mix(h ^ static_cast<std::uint64_t>(d));
 }
 
+namespace
+{
+// T valid triplets of the n points (at most 10 T draws), gathered per
+// cube-map cell: count and sum of unit normals (largest component positive);
+// touched lists the cells in the order of their first trial. I: the
+// integer type of the cross products. Returns the number of valid trials.
+template <typename I>
+int GatherTrials(const std::int32_t* points, int n, int T, Generator& g, RHTCellSum* slots,
+  std::int32_t* touched, int& distinct)
+{
+  int valid = 0;
+  const std::int64_t maxDraws = 10 * static_cast<std::int64_t>(T);
+  const std::uint32_t un = static_cast<std::uint32_t>(n);
+  for (std::int64_t draw = 0; draw < maxDraws && valid < T; ++draw)
+  {
+    const std::uint32_t a = g.Below(un), b = g.Below(un), c = g.Below(un);
+    if (a == b || b == c || a == c)
+    {
+      continue;
+    }
+    const std::int32_t* pa = points + 3 * a;
+    const std::int32_t* pb = points + 3 * b;
+    const std::int32_t* pc = points + 3 * c;
+    const I e1[3] = { pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2] };
+    const I e2[3] = { pc[0] - pa[0], pc[1] - pa[1], pc[2] - pa[2] };
+    const I cr[3] = { e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+      e1[0] * e2[1] - e1[1] * e2[0] };
+    if (cr[0] == 0 && cr[1] == 0 && cr[2] == 0)
+    {
+      continue; // collinear: the only degenerate triangles of surfel centres
+    }
+    I major;
+    const int cell = HoughTables::Cell(cr, major);
+    const double v[3] = { static_cast<double>(cr[0]), static_cast<double>(cr[1]),
+      static_cast<double>(cr[2]) };
+    const double inv = std::copysign(
+      1.0 / std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), static_cast<double>(major));
+    RHTCellSum& slot = slots[cell];
+    // A cell's first trial lists it, without a branch.
+    touched[distinct] = cell;
+    distinct += slot.Count == 0;
+    ++slot.Count;
+    slot.Sum[0] += v[0] * inv;
+    slot.Sum[1] += v[1] * inv;
+    slot.Sum[2] += v[2] * inv;
+    ++valid;
+  }
+  return valid;
+}
+} // namespace
+
 void EstimateRHT(const std::int32_t* points, int numberOfPoints, const double reference[3],
   const RHTParameters& parameters, std::uint64_t surfelSeed, const HoughTables& tables,
   RHTWorkspace& work, RHTEstimate& out)
@@ -392,117 +443,73 @@ void EstimateRHT(const std::int32_t* points, int numberOfPoints, const double re
     std::swap(pool[a], pool[a + static_cast<int>(g.Below(static_cast<std::uint32_t>(P - a)))]);
   }
 
-  // 1. T valid triplets (at most 10 T draws), each a unit normal flipped
-  // into the reference's hemisphere.
-  work.Normals.resize(3 * static_cast<std::size_t>(T));
-  work.Cells.resize(static_cast<std::size_t>(T));
-  work.Flips.resize(static_cast<std::size_t>(T));
-  double* normals = work.Normals.data();
-  std::int32_t* cells = work.Cells.data();
-  std::uint8_t* flips = work.Flips.data();
-  int valid = 0;
-  const std::int64_t maxDraws = 10 * static_cast<std::int64_t>(T);
-  const std::uint32_t un = static_cast<std::uint32_t>(n);
-  for (std::int64_t draw = 0; draw < maxDraws && valid < T; ++draw)
+  // 1. T valid triplets (at most 10 T draws). Every accumulator bins a
+  // normal by its cube-map cell alone, so the trials are gathered per cell
+  // first (count, and sum of the unit normals turned so that their largest
+  // component is positive): the votes and the winners' means then run over
+  // the distinct cells (tens to a few hundred) instead of A x T trials.
+  // The slots are all zero between surfels.
+  work.Slots.resize(HoughTables::NumberOfCells());
+  work.Touched.resize(HoughTables::NumberOfCells() + 1);
+  RHTCellSum* slots = work.Slots.data();
+  std::int32_t* touched = work.Touched.data();
+  int distinct = 0;
+  // Cross products of doubled offsets up to M in absolute value stay below
+  // 8 M^2: 32-bit arithmetic up to M = 16383 (r up to about 8000 voxels).
+  std::int32_t reach = 0;
+  for (int q = 0; q < 3 * n; ++q)
   {
-    const std::uint32_t a = g.Below(un), b = g.Below(un), c = g.Below(un);
-    if (a == b || b == c || a == c)
-    {
-      continue;
-    }
-    const std::int32_t* pa = points + 3 * a;
-    const std::int32_t* pb = points + 3 * b;
-    const std::int32_t* pc = points + 3 * c;
-    const std::int64_t e1[3] = { pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2] };
-    const std::int64_t e2[3] = { pc[0] - pa[0], pc[1] - pa[1], pc[2] - pa[2] };
-    const std::int64_t cr[3] = { e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-      e1[0] * e2[1] - e1[1] * e2[0] };
-    if (cr[0] == 0 && cr[1] == 0 && cr[2] == 0)
-    {
-      continue; // collinear: the only degenerate triangles of surfel centres
-    }
-    const double v[3] = { static_cast<double>(cr[0]), static_cast<double>(cr[1]),
-      static_cast<double>(cr[2]) };
-    // The cell from the cross product itself (its direction is the
-    // normal's, up to the sign), apart from the square root's latency.
-    int flip;
-    cells[valid] = HoughTables::Cell(v[0], v[1], v[2], flip);
-    // Into the reference's hemisphere, without a branch (the sign is a coin
-    // toss).
-    const double dot = v[0] * reference[0] + v[1] * reference[1] + v[2] * reference[2];
-    const double inv = std::copysign(1.0 / std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), dot);
-    double* m = normals + 3 * valid;
-    m[0] = v[0] * inv;
-    m[1] = v[1] * inv;
-    m[2] = v[2] * inv;
-    flips[valid] = static_cast<std::uint8_t>((flip < 0) != std::signbit(dot));
-    ++valid;
+    reach = std::max(reach, points[q] < 0 ? -points[q] : points[q]);
   }
+  const int valid = reach <= 16383
+    ? GatherTrials<std::int32_t>(points, n, T, g, slots, touched, distinct)
+    : GatherTrials<std::int64_t>(points, n, T, g, slots, touched, distinct);
   if (valid == 0)
   {
     Fallback(reference, n, out);
     return;
   }
 
-  // 2. The votes: each accumulator's table gives the bin of a cell and
-  // whether the cell's flipped direction folds (n and -n are one plane).
-  // The accumulators vote together, trial by trial: their counters are
-  // independent, which keeps a run of votes into one bin from waiting on
-  // itself.
+  // 2. Per accumulator, the votes of the distinct cells: its table gives a
+  // cell's bin and whether the cell's direction folds (then its normals
+  // enter the bin's mean negated: n and -n are one plane). The winner has
+  // most votes (ties: the lowest bin).
   const int bins = tables.NumberOfBins();
-  work.Counts.assign(static_cast<std::size_t>(bins) * A, 0);
-  work.Votes.resize(static_cast<std::size_t>(valid) * A);
+  work.Counts.resize(static_cast<std::size_t>(bins));
+  work.Entries.resize(static_cast<std::size_t>(distinct));
   std::int32_t* counts = work.Counts.data();
-  std::uint16_t* votes = work.Votes.data();
-  {
-    const std::uint16_t* table[64];
-    const int groups = (A + 63) / 64;
-    for (int group = 0; group < groups; ++group)
-    {
-      const int a0 = 64 * group, na = std::min(64, A - a0);
-      for (int a = 0; a < na; ++a)
-      {
-        table[a] = tables.Table(pool[a0 + a]);
-      }
-      for (int t = 0; t < valid; ++t)
-      {
-        const std::int32_t c = cells[t];
-        for (int a = 0; a < na; ++a)
-        {
-          const std::uint16_t e = table[a][c];
-          votes[static_cast<std::size_t>(a0 + a) * valid + t] = e;
-          ++counts[static_cast<std::size_t>(a0 + a) * bins + (e >> 1)];
-        }
-      }
-    }
-  }
+  std::uint16_t* entries = work.Entries.data();
   double total[3] = { 0, 0, 0 };
   for (int a = 0; a < A; ++a)
   {
-    const std::int32_t* count = counts + static_cast<std::size_t>(a) * bins;
-    const std::uint16_t* vote = votes + static_cast<std::size_t>(a) * valid;
-    // The winning bin (ties: the lowest bin), then the mean of its normals
-    // with the signs the fold gave them (negative when exactly one of the
-    // fold and the cell's flip turned it).
-    int best = 0;
-    for (int b = 1; b < bins; ++b)
+    const std::uint16_t* table = tables.Table(pool[a]);
+    // The winner as the counts grow: counts only grow, so the bins that
+    // reach the largest final count are all seen reaching it. One key per
+    // (count, bin), larger for more votes and then for a lower bin: a max
+    // without a branch (which bin wins is a coin toss for the predictor).
+    std::int64_t bestKey = -1;
+    for (int d = 0; d < distinct; ++d)
     {
-      if (count[b] > count[best])
-      {
-        best = b;
-      }
+      const std::uint16_t e = table[touched[d]];
+      entries[d] = e;
+      const int b = e >> 1;
+      const std::int64_t c = (counts[b] += slots[touched[d]].Count);
+      bestKey = std::max(bestKey, (c << 16) | (0xFFFF - b));
     }
+    const int best = 0xFFFF - static_cast<int>(bestKey & 0xFFFF);
     double sum[3] = { 0, 0, 0 };
-    for (int t = 0; t < valid; ++t)
+    for (int d = 0; d < distinct; ++d)
     {
-      const unsigned v = vote[t];
-      const double w = (v >> 1) == static_cast<unsigned>(best)
-        ? (((v ^ flips[t]) & 1u) ? -1.0 : 1.0)
-        : 0.0;
-      const double* m = normals + 3 * t;
-      sum[0] += w * m[0];
-      sum[1] += w * m[1];
-      sum[2] += w * m[2];
+      const unsigned e = entries[d];
+      counts[e >> 1] = 0;
+      if ((e >> 1) == static_cast<unsigned>(best))
+      {
+        const double w = (e & 1u) ? -1.0 : 1.0;
+        const double* s = slots[touched[d]].Sum;
+        sum[0] += w * s[0];
+        sum[1] += w * s[1];
+        sum[2] += w * s[2];
+      }
     }
     const double len = std::sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
     if (!(len > 0))
@@ -515,6 +522,10 @@ void EstimateRHT(const std::int32_t* points, int numberOfPoints, const double re
     total[0] += s * sum[0];
     total[1] += s * sum[1];
     total[2] += s * sum[2];
+  }
+  for (int d = 0; d < distinct; ++d)
+  {
+    slots[touched[d]] = RHTCellSum();
   }
   const double len = std::sqrt(total[0] * total[0] + total[1] * total[1] + total[2] * total[2]);
   if (!(len > 0))

@@ -84,17 +84,18 @@ private:
 /// z >= 0. Each surfel turns its A accumulators by A distinct rotations of
 /// the pool, picked with its own generator, so that neighbouring surfels
 /// mostly use different ones. A vote is then one cell computation per
-/// normal and one load per accumulator, in place of a rotation, a fold, a
-/// band search and an atan2. The cube map covers half the sphere: a
-/// direction is first flipped so that its largest component (in absolute
-/// value) is positive, n and -n being one plane. Cells: CellsPerSide^2 per
-/// face, 3 faces.
+/// normal and one load per accumulator and distinct cell, in place of a
+/// rotation, a fold, a band search and an atan2. The cube map covers half
+/// the sphere: a direction is first flipped so that its largest component
+/// (in absolute value) is positive, n and -n being one plane. Cells:
+/// CellsPerSide^2 per face, 3 faces.
 class HoughTables
 {
 public:
   static constexpr int CellsPerSide = 32;
   /// A pool of max(MinimumPool, accumulators) rotations.
   static constexpr int MinimumPool = 32;
+  static constexpr int NumberOfCells() { return 3 * CellsPerSide * CellsPerSide; }
   void Build(int resolution, int accumulators, std::uint64_t seed);
   int NumberOfBins() const { return this->Accumulator.NumberOfBins(); }
   int NumberOfAccumulators() const { return this->A; }
@@ -108,30 +109,32 @@ public:
   {
     return this->Tables.data() + static_cast<std::size_t>(a) * 3 * CellsPerSide * CellsPerSide;
   }
-  /// The cell of a non-zero vector; `flip` is -1 when the vector was
-  /// negated to make its largest component positive, else 1.
-  static int Cell(double x, double y, double z, int& flip)
+  /// The cell of a non-zero integer vector, and its largest component in
+  /// absolute value (the first of x, y, z among equals), signed: the
+  /// direction is flipped when that component is negative. Integer selects
+  /// in place of branches: the face and the sign of a random normal are
+  /// coin tosses that a branch predictor loses.
+  template <typename I>
+  static int Cell(const I c[3], I& major)
   {
-    const double ax = std::abs(x), ay = std::abs(y), az = std::abs(z);
-    int face;
-    double m, u, v;
-    if (ax >= ay && ax >= az)
-    {
-      face = 0, m = x, u = y, v = z;
-    }
-    else if (ay >= az)
-    {
-      face = 1, m = y, u = z, v = x;
-    }
-    else
-    {
-      face = 2, m = z, u = x, v = y;
-    }
-    flip = m < 0 ? -1 : 1;
-    const double h = 0.5 * CellsPerSide / std::abs(m);
-    const double c = 0.5 * CellsPerSide;
-    const int iu = std::min(CellsPerSide - 1, static_cast<int>(flip * u * h + c));
-    const int iv = std::min(CellsPerSide - 1, static_cast<int>(flip * v * h + c));
+    constexpr int signBit = 8 * sizeof(I) - 1;
+    const I ax = c[0] < 0 ? -c[0] : c[0];
+    const I ay = c[1] < 0 ? -c[1] : c[1];
+    const I az = c[2] < 0 ? -c[2] : c[2];
+    // The face from sign bits (-1 or 0), so that no compiler turns it into
+    // a branch.
+    const I notX = ((ax - ay) >> signBit) | ((ax - az) >> signBit);
+    const I notY = (ay - az) >> signBit;
+    const int face = static_cast<int>(-notX - (notX & notY));
+    // (m, u, v) = (x, y, z), (y, z, x) or (z, x, y).
+    const I w[5] = { c[0], c[1], c[2], c[0], c[1] };
+    const I m = w[face], u = w[face + 1], v = w[face + 2];
+    major = m;
+    // u / m in [-1, 1] after the flip; the flip is in the sign of m.
+    const double h = 0.5 * CellsPerSide / static_cast<double>(m);
+    const double o = 0.5 * CellsPerSide;
+    const int iu = std::min(CellsPerSide - 1, static_cast<int>(static_cast<double>(u) * h + o));
+    const int iv = std::min(CellsPerSide - 1, static_cast<int>(static_cast<double>(v) * h + o));
     return (face * CellsPerSide + iv) * CellsPerSide + iu;
   }
 
@@ -150,16 +153,22 @@ struct RHTParameters
   std::uint64_t Seed = 0;
 };
 
+/// The trials of one cube-map cell.
+struct RHTCellSum
+{
+  double Sum[3] = { 0, 0, 0 }; // unit normals, largest component positive
+  std::int32_t Count = 0;
+};
+
 /// Scratch memory of one thread.
 struct RHTWorkspace
 {
   std::vector<std::int32_t> Points;
-  std::vector<double> Normals;      // 3 per valid trial
-  std::vector<std::int32_t> Cells;  // per valid trial: its cube-map cell
-  std::vector<std::uint8_t> Flips;  // per valid trial: 1 when its cell flipped it
-  std::vector<std::uint16_t> Votes; // per accumulator and valid trial: table entry
-  std::vector<std::int32_t> Counts; // per accumulator and bin
-  std::vector<int> Pool;            // rotation indices (the surfel's picks first)
+  std::vector<RHTCellSum> Slots;      // per cube-map cell; all zero between surfels
+  std::vector<std::int32_t> Touched;  // the distinct cells of the trials, first trial first
+  std::vector<std::uint16_t> Entries; // per distinct cell: the accumulator's table entry
+  std::vector<std::int32_t> Counts;   // per bin; all zero between accumulators
+  std::vector<int> Pool;              // rotation indices (the surfel's picks first)
 };
 
 struct RHTEstimate
