@@ -277,6 +277,8 @@ struct VolumeResult
   SystemBytes U, V;
   double ProcessPeak = 0;
   bool Deterministic = true;
+  dg::ATMemoryParts Memory; // what the core holds at the end of the first run
+  std::size_t InputCopy = 0; // g, the field as the filter hands it over
 };
 
 void MinMax(const std::vector<std::int64_t>& v, std::int64_t& total, std::int64_t& lo,
@@ -495,7 +497,10 @@ int main(int argc, char* argv[])
       offsets = std::vector<std::int64_t>();
       connectivity = std::vector<std::int64_t>();
       run.Complex = Seconds(t0);
-      dg::ATSolver solver(complex, params);
+      // As the filter does, unless the exact run needs the patterns later.
+      std::unique_ptr<dg::ATSolver> solverPtr(exact ? new dg::ATSolver(complex, params)
+                                                    : new dg::ATSolver(complex, params, dg::ATSolver::TakePatterns));
+      dg::ATSolver& solver = *solverPtr;
       // Run calls the progress callback after every u-step + v-step pair:
       // the counters' differences are the CG iterations of that u solve and
       // of that v solve (the core is not changed for this).
@@ -530,6 +535,9 @@ int main(int argc, char* argv[])
         vr.Vertices = complex.NumberOfVertices();
         vr.U.Set(solver.UMatrix(), nc);
         vr.V.Set(solver.VMatrix(), 1);
+        complex.Memory(vr.Memory);
+        solver.Memory(vr.Memory);
+        vr.InputCopy = static_cast<std::size_t>(g.size()) * sizeof(double);
         firstU = solver.U();
         firstV = solver.V();
         if (exact)
@@ -632,6 +640,26 @@ int main(int argc, char* argv[])
         static_cast<double>(sb->Nnz) / sb->N, static_cast<long long>(sb->NL),
         static_cast<long long>(sb->Blocks), sb->NC, sb->PerIteration / 1e6,
         sb->PerIteration / sb->N, sb->PerSolveSetup / 1e6);
+    }
+    // Where AT's bytes go: every structure the complex and the solver hold
+    // at the end of the run (allocated capacity), per surfel.
+    {
+      dg::ATMemoryParts parts = vr.Memory;
+      parts.emplace_back("input field g (the caller's copy)", vr.InputCopy);
+      std::size_t total = 0;
+      for (const auto& p : parts)
+      {
+        total += p.second;
+      }
+      std::printf("  memory by structure (B/surfel; MiB):\n");
+      for (const auto& p : parts)
+      {
+        std::printf("    %-62s %7.1f  %8.1f\n", p.first.c_str(),
+          static_cast<double>(p.second) / static_cast<double>(vr.Faces), p.second / 1048576.0);
+      }
+      std::printf("    %-62s %7.1f  %8.1f (measured AT+ peak: %.0f B/surfel)\n", "total",
+        static_cast<double>(total) / static_cast<double>(vr.Faces), total / 1048576.0,
+        medExtra * 1048576.0 / static_cast<double>(vr.Faces));
     }
     std::fflush(stdout);
 

@@ -126,7 +126,7 @@ public:
         {
           return false; // pattern not symmetric
         }
-        this->UFromL[u] = it - this->LCol.begin();
+        this->UFromL[u] = static_cast<int>(it - this->LCol.begin());
       }
     }
     return true;
@@ -498,12 +498,26 @@ public:
     return true;
   }
 
+  void Memory(ATMemoryParts& parts, const std::string& name) const override
+  {
+    auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
+    parts.emplace_back(name + ": IC pattern (L, U columns, positions, row starts)",
+      bytes(this->LPtr) + bytes(this->UPtr) + bytes(this->LCol) + bytes(this->LPos) +
+        bytes(this->UCol) + bytes(this->DPos) + bytes(this->UFromL) + bytes(this->Blocks));
+    parts.emplace_back(name + ": IC factor (L, U values, 1/D; float)",
+      bytes(this->LVal) + bytes(this->UVal) + bytes(this->InvD));
+    parts.emplace_back(name + ": CG vectors (x, r, p, q, z)",
+      bytes(this->X) + bytes(this->R) + bytes(this->P) + bytes(this->Q) + bytes(this->Z) +
+        bytes(this->Partial));
+  }
+
 private:
   double Tolerance;
   int MaxIterations;
   const ATDistribution* Dist;
   int Kind;
-  std::vector<std::int64_t> Blocks, UFromL;
+  std::vector<std::int64_t> Blocks;
+  std::vector<int> UFromL; // index into LCol/LVal (fewer than the matrix's int-indexed non-zeros)
   // int like the matrix's own indices (the factor has fewer entries).
   std::vector<int> LPtr, UPtr;
   std::vector<int> LCol, LPos, UCol, DPos;

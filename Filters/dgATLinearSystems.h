@@ -22,6 +22,8 @@ public:
   /// x holds the previous solution on entry (a warm start for iterative
   /// solvers) and the new one on success.
   virtual bool Solve(const ATSystemMatrix& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& x) = 0;
+  /// The bytes this solver holds (factor, work vectors), by name.
+  virtual void Memory(ATMemoryParts&, const std::string&) const {}
   bool Analyzed = false;
   std::int64_t Iterations = 0;
 };

@@ -226,7 +226,7 @@ void ATComplex::BuildSystemPatterns()
   struct Entry
   {
     int Column, Edge;
-    double Coef;
+    signed char Coef;
     bool operator<(const Entry& o) const
     {
       return this->Column != o.Column ? this->Column < o.Column : this->Edge < o.Edge;
@@ -244,11 +244,11 @@ void ATComplex::BuildSystemPatterns()
       for (std::int64_t i = this->EdgeFacePtr[e]; i < this->EdgeFacePtr[e + 1]; ++i)
       {
         entries.push_back({ this->EdgeFaces[i], e,
-          static_cast<double>(faceSigns[k]) * this->EdgeFaceSigns[i] });
+          static_cast<signed char>(faceSigns[k] * this->EdgeFaceSigns[i]) });
       }
     }
     // A face always has its diagonal, even with no edge (alpha I).
-    entries.push_back({ static_cast<int>(f), -1, 0.0 });
+    entries.push_back({ static_cast<int>(f), -1, 0 });
     std::sort(entries.begin(), entries.end());
   };
   std::vector<std::int64_t> rowNnz(nf), rowContrib(nf);
@@ -271,7 +271,7 @@ void ATComplex::BuildSystemPatterns()
   std::vector<int> columns(nnzU);
   this->UContribPtr.assign(nnzU + 1, 0);
   this->UContribEdge.assign(nContrib, 0);
-  this->UContribCoef.assign(nContrib, 0.0);
+  this->UContribCoef.assign(nContrib, 0);
   this->UDiagonal.assign(nf, 0);
   vtkSMPTools::For(0, nf, [&](std::int64_t fb, std::int64_t fe) {
     std::vector<Entry> entries;
@@ -334,6 +334,36 @@ void ATComplex::BuildSystemPatterns()
     }
   });
   SetPattern(this->VPattern, nv, vPtr, vColumns);
+}
+
+namespace
+{
+template <typename T>
+std::size_t Bytes(const std::vector<T>& v)
+{
+  return v.capacity() * sizeof(T);
+}
+} // namespace
+
+std::size_t MatrixBytes(const ATSystemMatrix& m)
+{
+  return static_cast<std::size_t>(m.nonZeros()) * (sizeof(double) + sizeof(int)) +
+    static_cast<std::size_t>(m.outerSize() + 1) * sizeof(int);
+}
+
+void ATComplex::Memory(ATMemoryParts& parts) const
+{
+  parts.emplace_back("complex: edge vertices", Bytes(this->EdgeVertices));
+  parts.emplace_back("complex: edge -> faces (ptr, faces, signs)",
+    Bytes(this->EdgeFacePtr) + Bytes(this->EdgeFaces) + Bytes(this->EdgeFaceSigns));
+  parts.emplace_back(
+    "complex: vertex -> edges (ptr, edges)", Bytes(this->VertexEdgePtr) + Bytes(this->VertexEdges));
+  parts.emplace_back("complex: u pattern (zero values + indices)", MatrixBytes(this->UPattern));
+  parts.emplace_back("complex: u assembly map (ptr, edge, coefficient, diagonal)",
+    Bytes(this->UContribPtr) + Bytes(this->UContribEdge) + Bytes(this->UContribCoef) +
+      Bytes(this->UDiagonal));
+  parts.emplace_back("complex: v pattern (zero values + indices)", MatrixBytes(this->VPattern));
+  parts.emplace_back("complex: v edge of each non-zero", Bytes(this->VEdge));
 }
 
 ATSparse ATComplex::MatrixA() const

@@ -26,6 +26,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace dg
@@ -36,6 +37,11 @@ using ATSparse = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
 /// major, so that the same arrays serve a row-wise product and the direct
 /// solvers (which read one triangle).
 using ATSystemMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+/// Bytes held per named structure (allocated capacity), for memory tables.
+using ATMemoryParts = std::vector<std::pair<std::string, std::size_t>>;
+/// Bytes of a sparse matrix's values, inner indices and column starts.
+std::size_t MatrixBytes(const ATSystemMatrix& m);
 
 /// Combinatorics of a polygonal complex: faces, unique edges and their
 /// incidences, plus the fixed sparsity patterns of both AT systems.
@@ -69,13 +75,24 @@ public:
   ATSparse MatrixB() const; // E x F, dual derivative
   ATSparse MatrixM() const; // E x N, 1/2 |A|
 
+  /// False once a solver has taken the system patterns
+  /// (ATSolver::TakePatterns).
+  bool HasSystemPatterns() const
+  {
+    return this->UPattern.rows() == this->NFaces && this->VPattern.rows() == this->NVertices;
+  }
+
+  /// The bytes of every array above, by name.
+  void Memory(ATMemoryParts& parts) const;
+
   /// Pattern of the u-system alpha I + B^T diag(w) B (F x F) and, for every
   /// stored non-zero k, the contributions w[ContribEdge[j]] * ContribCoef[j]
-  /// for j in [UContribPtr[k], UContribPtr[k+1]).
+  /// for j in [UContribPtr[k], UContribPtr[k+1]). The coefficients are
+  /// products of two signs of B, so +1 or -1: one byte each.
   ATSystemMatrix UPattern;
   std::vector<std::int64_t> UContribPtr;
   std::vector<int> UContribEdge;
-  std::vector<double> UContribCoef;
+  std::vector<signed char> UContribCoef;
   std::vector<int> UDiagonal; // index of (f, f) in UPattern's value array
 
   /// Pattern of the v-system (N x N): the vertex graph plus the diagonal;

@@ -90,6 +90,14 @@ ATSolver::ATSolver(const ATComplex& complex, const ATParameters& parameters)
 {
 }
 
+ATSolver::ATSolver(ATComplex& complex, const ATParameters& parameters, TakePatternsTag)
+  : Complex(complex)
+  , Params(parameters)
+{
+  this->UM.swap(complex.UPattern);
+  this->VM.swap(complex.VPattern);
+}
+
 ATSolver::~ATSolver() = default;
 
 void ATSolver::Initialize(const Eigen::MatrixXd& field)
@@ -138,7 +146,7 @@ void ATSolver::AssembleU()
           double s = 0;
           for (std::int64_t j = K.UContribPtr[k]; j < K.UContribPtr[k + 1]; ++j)
           {
-            s += K.UContribCoef[j] * w[K.UContribEdge[j]];
+            s += static_cast<double>(K.UContribCoef[j]) * w[K.UContribEdge[j]];
           }
           val[k] = s;
         }
@@ -307,6 +315,26 @@ bool ATSolver::StepV(double epsilon)
   return ok;
 }
 
+void ATSolver::Memory(ATMemoryParts& parts) const
+{
+  auto dense = [](const Eigen::MatrixXd& m) { return static_cast<std::size_t>(m.size()) * sizeof(double); };
+  parts.emplace_back("solver: g, u (field copies)", dense(this->g) + dense(this->u));
+  parts.emplace_back("solver: u right-hand sides", dense(this->URhs));
+  parts.emplace_back("solver: v, v right-hand side, v unknown",
+    static_cast<std::size_t>(this->v.size()) * sizeof(double) + dense(this->VRhs) + dense(this->VX));
+  parts.emplace_back("solver: per-edge work", this->EdgeWork.capacity() * sizeof(double));
+  parts.emplace_back("solver: u matrix values + indices", MatrixBytes(this->UM));
+  parts.emplace_back("solver: v matrix values + indices", MatrixBytes(this->VM));
+  if (this->USystem)
+  {
+    this->USystem->Memory(parts, "u solver");
+  }
+  if (this->VSystem)
+  {
+    this->VSystem->Memory(parts, "v solver");
+  }
+}
+
 double ATSolver::Energy(double epsilon) const
 {
   const ATComplex& K = this->Complex;
@@ -405,6 +433,12 @@ bool ATSolver::Run(const Eigen::MatrixXd& field, const ATProgressCallback& progr
   this->ErrorText = this->Params.Check();
   if (!this->ErrorText.empty())
   {
+    return false;
+  }
+  if (this->UM.rows() != this->Complex.NumberOfFaces() ||
+    this->VM.rows() != this->Complex.NumberOfVertices())
+  {
+    this->ErrorText = "the complex's system patterns were taken by another solver";
     return false;
   }
   if (this->Metric &&

@@ -576,7 +576,7 @@ int vtkAmbrosioTortorelliFilter::Internals::Solve(vtkAmbrosioTortorelliFilter* s
     return this->Abort.Abort(outputVector);
   }
 
-  dg::ATSolver solver(complex, params);
+  dg::ATSolver solver(complex, params, dg::ATSolver::TakePatterns);
   if (self->Metric == METRIC_WORLD)
   {
     solver.SetMetric(&metric);

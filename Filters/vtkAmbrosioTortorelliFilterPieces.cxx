@@ -234,7 +234,7 @@ int vtkAmbrosioTortorelliFilter::RequestDataPieces(vtkMultiProcessController* co
 
   // 4. The solve: every process runs the same schedule; progress only (an
   // abort on one process alone would leave the others waiting).
-  dg::ATSolver solver(complex, params);
+  dg::ATSolver solver(complex, params, dg::ATSolver::TakePatterns);
   solver.SetDistribution(&halo);
   if (this->Metric == METRIC_WORLD)
   {

@@ -593,6 +593,28 @@ TEST(ATOperators, SolversAgreeAndRunIsDeterministic)
   EXPECT_LT((ldlt->U().rowwise().norm().array() - 1).abs().maxCoeff(), 1e-12);
 }
 
+TEST(ATOperators, TakingThePatternsGivesTheSameRunAndOnlyOnce)
+{
+  // A solver that takes the complex's patterns (what the filter does, to
+  // hold them once) gives bitwise the copying solver's result; a second
+  // solver on that complex fails with a message instead of a wrong run.
+  auto cube = dgtest::MakeRotatedCube(Eigen::Vector3d(12.1, 11.9, 12.2), 7, 20, 30, 10);
+  auto pd = Surface(dgtest::Digitize(*cube, 25));
+  dg::ATComplex c = Build(FromPolyData(pd));
+  const Eigen::MatrixXd g = TrivialNormalsPlusNoise(pd, 0.2, 3);
+  dg::ATSolver copying(c, dg::ATParameters());
+  ASSERT_TRUE(copying.Run(g));
+  ASSERT_TRUE(c.HasSystemPatterns());
+  dg::ATSolver taking(c, dg::ATParameters(), dg::ATSolver::TakePatterns);
+  EXPECT_FALSE(c.HasSystemPatterns());
+  ASSERT_TRUE(taking.Run(g));
+  EXPECT_EQ(MaxAbs(taking.U() - copying.U()), 0.0);
+  EXPECT_EQ(MaxAbs(taking.V() - copying.V()), 0.0);
+  dg::ATSolver late(c, dg::ATParameters());
+  EXPECT_FALSE(late.Run(g));
+  EXPECT_NE(late.Error().find("taken"), std::string::npos) << late.Error();
+}
+
 TEST(ATOperators, InvalidParametersAreReported)
 {
   const dg::ATComplex c = Build(Cube());
