@@ -1,4 +1,5 @@
 #include "dgDicomSeries.h"
+#include "dgImageInput.h"
 
 #ifdef DG_HAVE_GDCM
 #include <gdcmDirectory.h>
@@ -62,18 +63,7 @@ Vec Scaled(const Vec& a, double s)
 // anything that does not parse gives fewer numbers than expected.
 std::vector<double> Numbers(const char* text)
 {
-  std::vector<double> out;
-  if (!text)
-    return out;
-  std::string t = text;
-  for (char& c : t)
-    if (c == '\\')
-      c = ' ';
-  std::istringstream ss(t);
-  double v;
-  while (ss >> v)
-    out.push_back(v);
-  return out;
+  return text ? ParseNumbers(text) : std::vector<double>();
 }
 
 std::string Trim(const char* text)

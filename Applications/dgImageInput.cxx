@@ -106,19 +106,6 @@ std::vector<std::pair<std::string, std::string>> HeaderFields(const std::string&
   return fields;
 }
 
-std::vector<double> Numbers(const std::string& text)
-{
-  std::vector<double> out;
-  std::string t = text;
-  for (char& c : t)
-    if (c == '(' || c == ')' || c == ',')
-      c = ' ';
-  std::istringstream ss(t);
-  double v;
-  while (ss >> v)
-    out.push_back(v);
-  return out;
-}
 
 // The geometry of a MetaImage or NRRD header, which VTK's readers drop
 // (TransformMatrix, space directions, space): world = Origin + Direction ·
@@ -193,18 +180,18 @@ std::string ReadHeaderGeometry(const std::string& path, bool nrrd, bool ras, Hea
   if (!nrrd)
   {
     const std::string* ndims = field({ "ndims" });
-    if (!ndims || Numbers(*ndims) != std::vector<double>{ 3 })
+    if (!ndims || ParseNumbers(*ndims) != std::vector<double>{ 3 })
       return ""; // 2-D or 4-D: VTK's reader, as before
     if (const std::string* o = field({ "offset", "origin", "position" }))
     {
-      const auto v = Numbers(*o);
+      const auto v = ParseNumbers(*o);
       if (v.size() != 3)
         return "its Offset (" + *o + ") is not three numbers";
       std::copy(v.begin(), v.end(), g.Origin);
     }
     if (const std::string* sp = field({ "elementspacing", "elementsize" }))
     {
-      const auto v = Numbers(*sp);
+      const auto v = ParseNumbers(*sp);
       if (v.size() != 3)
         return "its ElementSpacing (" + *sp + ") is not three numbers";
       std::copy(v.begin(), v.end(), g.Spacing);
@@ -212,7 +199,7 @@ std::string ReadHeaderGeometry(const std::string& path, bool nrrd, bool ras, Hea
     double m[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
     if (const std::string* t = field({ "transformmatrix", "rotation", "orientation" }))
     {
-      const auto v = Numbers(*t);
+      const auto v = ParseNumbers(*t);
       if (v.size() != 9)
         return "its TransformMatrix (" + *t + ") is not nine numbers";
       std::copy(v.begin(), v.end(), m);
@@ -248,7 +235,7 @@ std::string ReadHeaderGeometry(const std::string& path, bool nrrd, bool ras, Hea
       const auto close = dirs->find(')', at);
       if (close == std::string::npos)
         return "its space directions (" + *dirs + ") are not 3-vectors in parentheses";
-      vectors.push_back(Numbers(dirs->substr(at + 1, close - at - 1)));
+      vectors.push_back(ParseNumbers(dirs->substr(at + 1, close - at - 1)));
     }
     if (vectors.size() != 3 || std::any_of(vectors.begin(), vectors.end(), [](const auto& v) { return v.size() != 3; }))
       return "its space directions (" + *dirs + ") are not three 3-vectors";
@@ -257,7 +244,7 @@ std::string ReadHeaderGeometry(const std::string& path, bool nrrd, bool ras, Hea
         columns[a][r] = flip[r] * vectors[a][r];
     if (const std::string* o = field({ "space origin" }))
     {
-      const auto v = Numbers(*o);
+      const auto v = ParseNumbers(*o);
       if (v.size() != 3)
         return "its space origin (" + *o + ") is not a 3-vector";
       for (int r = 0; r < 3; ++r)
@@ -606,4 +593,19 @@ bool CheckImagePiece(vtkAlgorithm* reader, const std::string& path, std::string&
   }
   return true;
 }
+
+std::vector<double> ParseNumbers(const std::string& text)
+{
+  std::vector<double> out;
+  std::string t = text;
+  for (char& c : t)
+    if (c == '(' || c == ')' || c == ',' || c == '\\')
+      c = ' ';
+  std::istringstream ss(t);
+  double v;
+  while (ss >> v)
+    out.push_back(v);
+  return out;
+}
+
 } // namespace dg

@@ -51,6 +51,9 @@ import numpy as np
 import vtk
 from vtk.util import numpy_support
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from render_features import read_vtp, run  # noqa: E402 (same folder)
+
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
 # column key -> (estimator run, array, title)
@@ -67,23 +70,6 @@ ESTIMATOR_OPTIONS = {
     "vcm": ["--estimator", "vcm", "--vcm-radii", "10", "4"],
     "rht": ["--estimator", "rht", "--rht-radius", "6", "--rht-trials", "648"],
 }
-
-
-def run(cmd):
-    env = dict(os.environ, VTK_SMP_BACKEND_IN_USE=os.environ.get("VTK_SMP_BACKEND_IN_USE", "STDThread"))
-    r = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    if r.returncode != 0:
-        sys.exit(f"failed ({r.returncode}): {' '.join(cmd)}\n{r.stdout}")
-    return r.stdout
-
-
-def read_vtp(path):
-    r = vtk.vtkXMLPolyDataReader()
-    r.SetFileName(path)
-    r.Update()
-    out = vtk.vtkPolyData()
-    out.ShallowCopy(r.GetOutput())
-    return out
 
 
 def normal_colours(surface, name):
