@@ -1,0 +1,88 @@
+#include "dgProgramSupport.h"
+
+#include <vtkPolyData.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkXMLWriter.h>
+
+#include <sys/resource.h>
+
+#include <iostream>
+#include <sstream>
+
+namespace dgapp
+{
+std::string Stem(const std::string& path)
+{
+  std::string s = path;
+  while (!s.empty() && s.back() == '/')
+    s.pop_back();
+  const auto slash = s.find_last_of('/');
+  if (slash != std::string::npos)
+    s = s.substr(slash + 1);
+  // "scan.nii.gz" -> "scan": a compressed file's two extensions go.
+  for (const char* two : { ".nii.gz", ".vol.gz" })
+  {
+    const std::string t = two;
+    if (s.size() > t.size() && s.compare(s.size() - t.size(), t.size(), t) == 0)
+      return s.substr(0, s.size() - t.size());
+  }
+  const auto dot = s.find_last_of('.');
+  if (dot != std::string::npos && dot > 0)
+    s = s.substr(0, dot);
+  return s.empty() ? "result" : s;
+}
+
+double PeakMemoryMiB()
+{
+  rusage u;
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_maxrss / 1024.0;
+}
+
+int Fail(const std::string& message)
+{
+  std::cerr << Program << ": " << message << "\n";
+  return 1;
+}
+
+void ConfigureXMLWriter(vtkXMLWriter* w, const std::string& compression)
+{
+  w->SetDataModeToBinary(); // appended data trips Debian's expat + VTK 9.2 reader
+  if (compression == "zlib")
+    w->SetCompressorTypeToZLib();
+  else if (compression == "none")
+    w->SetCompressorTypeToNone();
+  else
+    w->SetCompressorTypeToLZ4();
+}
+
+// The first error in text collected from VTK's output window ("ERROR: In
+// file, line N" then the message), as one line without the object's address.
+std::string FirstVTKError(const std::string& text)
+{
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line))
+  {
+    if (line.rfind("ERROR: In ", 0) != 0 || !std::getline(in, line))
+      continue;
+    const auto open = line.find(" (0x");
+    const auto close = line.find("): ", open == std::string::npos ? 0 : open);
+    if (open != std::string::npos && close != std::string::npos)
+      line = line.substr(0, open) + line.substr(close + 1);
+    return line;
+  }
+  return "";
+}
+
+long long OwnedCells(vtkPolyData* pd)
+{
+  vtkUnsignedCharArray* ghosts = pd->GetCellGhostArray();
+  if (!ghosts)
+    return pd->GetNumberOfCells();
+  long long n = 0;
+  for (vtkIdType c = 0; c < ghosts->GetNumberOfTuples(); ++c)
+    n += ghosts->GetValue(c) == 0 ? 1 : 0;
+  return n;
+}
+} // namespace dgapp
