@@ -139,7 +139,6 @@ with one process).
 )";
 }
 
-
 [[noreturn]] void OptionError(const std::string& message)
 {
   if (PrintsCommonMessages())
@@ -166,7 +165,8 @@ Options ParseOptions(int argc, char* argv[])
   for (int a = 1; a < argc; ++a)
   {
     const std::string arg = argv[a];
-    auto value = [&]() -> std::string {
+    auto value = [&]() -> std::string
+    {
       if (a + 1 >= argc)
       {
         OptionError(arg + " needs a value");
@@ -328,7 +328,7 @@ Options ParseOptions(int argc, char* argv[])
   if (!(o.P.Radius > 0))
     OptionError("--radius must be > 0");
   if (!(o.P.VCMConvolutionRadius > 0) || !(o.P.VCMOffsetRadius >= o.P.VCMConvolutionRadius) ||
-    !std::isfinite(o.P.VCMOffsetRadius))
+      !std::isfinite(o.P.VCMOffsetRadius))
     OptionError("--vcm-radii R r needs 0 < r <= R");
   if (!(o.P.RHTRadius > 0) || !std::isfinite(o.P.RHTRadius))
     OptionError("--rht-radius must be > 0");

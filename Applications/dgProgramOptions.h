@@ -24,7 +24,7 @@ struct Options
   dg::ReadOptions Read; // LPS/RAS, DICOM series
   std::string Compression = "lz4";
   int Width = 1200, Height = 900;
-  std::string Labels; // --labels: every label's surface in one run
+  std::string Labels;      // --labels: every label's surface in one run
   bool Interfaces = false; // --interfaces: the faces between labels, once
 };
 

@@ -41,8 +41,11 @@ public:
     const double f = *static_cast<double*>(data);
     const int width = 30;
     const int filled = static_cast<int>(f * width + 0.5);
-    std::fprintf(stderr, "\r%-22s [%s%s] %3d%%", this->Stage.c_str(),
-      std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(),
+    std::fprintf(stderr,
+      "\r%-22s [%s%s] %3d%%",
+      this->Stage.c_str(),
+      std::string(filled, '#').c_str(),
+      std::string(width - filled, '.').c_str(),
       static_cast<int>(100 * f + 0.5));
     if (f >= 1.0)
     {

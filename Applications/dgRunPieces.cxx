@@ -41,20 +41,25 @@ int RunPieces(Options opt, dg::Processes& procs)
   // A failure only this rank sees: say it with the rank, and exit non-zero
   // at once (mpirun then ends the ranks that wait for this one in a
   // collective step, within seconds).
-  auto rankFail = [&](const std::string& message) {
+  auto rankFail = [&](const std::string& message)
+  {
     std::cerr << Program << ": rank " << rank << " of " << size << ": " << message << "\n";
     std::cerr.flush();
     return 1;
   };
   // A collective check: every rank learns whether all are fine; the lowest
   // failing rank alone prints its message (one message, not N).
-  auto agreeOrFail = [&](bool ok, const std::string& message) {
-    const long long first = -procs.Max(ok ? -static_cast<double>(size) : -static_cast<double>(rank));
+  auto agreeOrFail = [&](bool ok, const std::string& message)
+  {
+    const long long first =
+      -procs.Max(ok ? -static_cast<double>(size) : -static_cast<double>(rank));
     if (first >= size)
       return true;
     if (first == rank)
-      std::cerr << Program << ": " << (size > 1 ? "rank " + std::to_string(rank) + " of " +
-          std::to_string(size) + ": " : std::string()) << message << "\n";
+      std::cerr << Program << ": "
+                << (size > 1 ? "rank " + std::to_string(rank) + " of " + std::to_string(size) + ": "
+                             : std::string())
+                << message << "\n";
     return false;
   };
 
@@ -87,8 +92,9 @@ int RunPieces(Options opt, dg::Processes& procs)
     std::error_code ec;
     std::filesystem::create_directories(opt.OutputDir, ec);
     const bool ok = !ec && std::filesystem::is_directory(opt.OutputDir);
-    if (!agreeOrFail(ok, "cannot create the output directory '" + opt.OutputDir + "': " +
-          (ec ? ec.message() : std::string("a file of that name exists"))))
+    if (!agreeOrFail(ok,
+          "cannot create the output directory '" + opt.OutputDir +
+            "': " + (ec ? ec.message() : std::string("a file of that name exists"))))
       return 1;
   }
 
@@ -97,7 +103,8 @@ int RunPieces(Options opt, dg::Processes& procs)
   vtkNew<ErrorCatcher> errors;
   vtkNew<StageClock> clock;
   clock->Progress = progress;
-  auto watch = [&](vtkAlgorithm* algo, const std::string& name, bool warningsFail) {
+  auto watch = [&](vtkAlgorithm* algo, const std::string& name, bool warningsFail)
+  {
     algo->AddObserver(vtkCommand::ErrorEvent, errors);
     if (warningsFail)
       algo->AddObserver(vtkCommand::WarningEvent, errors);
@@ -195,7 +202,8 @@ int RunPieces(Options opt, dg::Processes& procs)
       return 1;
   }
   const auto writeStart = Clock::now();
-  auto writePieces = [&](vtkPolyData* pd, const std::string& name) {
+  auto writePieces = [&](vtkPolyData* pd, const std::string& name)
+  {
     vtkSmartPointer<vtkXMLWriter> w = procs.PieceWriter(pd, (partDir / (name + ".pvtp")).string());
     ConfigureXMLWriter(w, opt.Compression);
     w->AddObserver(vtkCommand::ErrorEvent, errors);
@@ -208,9 +216,10 @@ int RunPieces(Options opt, dg::Processes& procs)
     // mpirun ends them; the final names never hold a partial file.
     return w->Write() == 1 && w->GetErrorCode() == vtkErrorCode::NoError && !errors->Failed;
   };
-  auto writeFailure = [&](const std::string& name) {
+  auto writeFailure = [&](const std::string& name)
+  {
     return rankFail("cannot write " + (outDir / (name + ".pvtp")).string() +
-      (errors->Message.empty() ? "" : " (" + errors->Message + ")"));
+                    (errors->Message.empty() ? "" : " (" + errors->Message + ")"));
   };
   if (!writePieces(result, prefix + "_surface"))
     return writeFailure(prefix + "_surface");
@@ -226,7 +235,8 @@ int RunPieces(Options opt, dg::Processes& procs)
   if (opt.Png)
   {
     const auto t0 = Clock::now();
-    vtkSmartPointer<vtkPolyData> whole = procs.GatherToRoot(result, { "Normals", pipeline.InputNormalsName(), "ATNormals" });
+    vtkSmartPointer<vtkPolyData> whole =
+      procs.GatherToRoot(result, { "Normals", pipeline.InputNormalsName(), "ATNormals" });
     vtkSmartPointer<vtkPolyData> lines = procs.GatherToRoot(features, {});
     if (root)
     {
@@ -236,7 +246,12 @@ int RunPieces(Options opt, dg::Processes& procs)
       ro.Panels = opt.Panels;
       std::string error;
       mine.push_back(prefix + ".png");
-      if (!dg::RenderPicture(whole, pipeline.InputNormalsName(), lines, ro, (partDir / (prefix + ".png")).string(), error))
+      if (!dg::RenderPicture(whole,
+            pipeline.InputNormalsName(),
+            lines,
+            ro,
+            (partDir / (prefix + ".png")).string(),
+            error))
         return rankFail(error);
     }
     renderTime = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -266,8 +281,8 @@ int RunPieces(Options opt, dg::Processes& procs)
   }
   surfacePieces = procs.Sum(surfacePieces);
   featurePieces = procs.Sum(featurePieces);
-  const bool allMoved = agreeOrFail(moved || !allWritten,
-    "cannot rename the output files in '" + opt.OutputDir + "'");
+  const bool allMoved =
+    agreeOrFail(moved || !allWritten, "cannot rename the output files in '" + opt.OutputDir + "'");
   if (root)
   {
     std::error_code ec;
@@ -330,7 +345,8 @@ int RunPieces(Options opt, dg::Processes& procs)
   for (const auto& [name, pieces] : { std::make_pair(prefix + "_surface", surfacePieces),
          std::make_pair(prefix + "_features", featurePieces) })
     std::cout << "  wrote " << (outDir / (name + ".pvtp")).string() << " and " << pieces
-              << " non-empty piece" << (pieces == 1 ? "" : "s") << " " << name << "_R.vtp (R = rank)\n";
+              << " non-empty piece" << (pieces == 1 ? "" : "s") << " " << name
+              << "_R.vtp (R = rank)\n";
   if (opt.Png)
     std::cout << "  wrote " << (outDir / (prefix + ".png")).string() << "\n";
   procs.Finalize();

@@ -65,7 +65,8 @@ int main(int argc, char* argv[])
   using Clock = std::chrono::steady_clock;
   std::vector<std::pair<std::string, double>> times;
   auto t = Clock::now();
-  auto lap = [&](const std::string& stage) {
+  auto lap = [&](const std::string& stage)
+  {
     const auto now = Clock::now();
     times.emplace_back(stage, std::chrono::duration<double>(now - t).count());
     t = now;
@@ -78,13 +79,14 @@ int main(int argc, char* argv[])
     std::filesystem::create_directories(opt.OutputDir, ec);
     if (ec || !std::filesystem::is_directory(opt.OutputDir))
       return Fail("cannot create the output directory '" + opt.OutputDir +
-        "': " + (ec ? ec.message() : std::string("a file of that name exists")));
+                  "': " + (ec ? ec.message() : std::string("a file of that name exists")));
   }
 
   vtkNew<ProgressBar> progress;
   progress->Enabled = !opt.Quiet && isatty(2);
   vtkNew<ErrorCatcher> errors;
-  auto watch = [&](vtkAlgorithm* algo) {
+  auto watch = [&](vtkAlgorithm* algo)
+  {
     algo->AddObserver(vtkCommand::ErrorEvent, errors);
     algo->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, errors);
     algo->AddObserver(vtkCommand::ProgressEvent, progress);
@@ -130,7 +132,7 @@ int main(int argc, char* argv[])
     dg::LabelSpec spec;
     std::string error;
     if (!dg::ParseLabelSpec(opt.Labels, spec, error) ||
-      !dg::FindLabels(image, spec, labelBoxes, error))
+        !dg::FindLabels(image, spec, labelBoxes, error))
       return Fail("--labels: " + error);
     const int margin = dg::LabelMargin(opt.P);
     for (const dg::LabelBox& box : opt.Interfaces ? std::vector<dg::LabelBox>() : labelBoxes)
@@ -156,13 +158,13 @@ int main(int argc, char* argv[])
     for (const auto& stage : pipeline.Stages)
     {
       watch(stage.Algorithm);
-      progress->Stage = labelBoxes.empty() ? stage.Name
-                                           : "label " + std::to_string(run.Label) + ": " + stage.Name;
+      progress->Stage =
+        labelBoxes.empty() ? stage.Name : "label " + std::to_string(run.Label) + ": " + stage.Name;
       const auto t0 = Clock::now();
       stage.Algorithm->Update();
       if (errors->Failed)
         return Fail((labelBoxes.empty() ? "" : "label " + std::to_string(run.Label) + ": ") +
-          errors->Message);
+                    errors->Message);
       if (!stageTimes.count(stage.Name))
         stageOrder.push_back(stage.Name);
       stageTimes[stage.Name] += std::chrono::duration<double>(Clock::now() - t0).count();
@@ -200,12 +202,14 @@ int main(int argc, char* argv[])
   vtkNew<vtkAmbrosioTortorelliFilter> interfacesAT;
   if (opt.Interfaces)
   {
-    auto runStage = [&](vtkAlgorithm* algorithm, const std::string& name) {
+    auto runStage = [&](vtkAlgorithm* algorithm, const std::string& name)
+    {
       watch(algorithm);
       progress->Stage = name;
       const auto t0 = Clock::now();
       algorithm->Update();
-      const std::string key = name.substr(name.find(": ") == std::string::npos ? 0 : name.find(": ") + 2);
+      const std::string key =
+        name.substr(name.find(": ") == std::string::npos ? 0 : name.find(": ") + 2);
       if (!stageTimes.count(key))
         stageOrder.push_back(key);
       stageTimes[key] += std::chrono::duration<double>(Clock::now() - t0).count();
@@ -258,16 +262,20 @@ int main(int argc, char* argv[])
   const std::string base = (std::filesystem::path(opt.OutputDir) / prefix).string();
   // The writers' errors go to the catcher too: one line instead of VTK's
   // multi-line report, and the reason (errno text) is in it.
-  auto written = [&](auto* w) {
+  auto written = [&](auto* w)
+  {
     w->AddObserver(vtkCommand::ErrorEvent, errors);
     w->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, errors);
     // Write() can return 1 when the file did not open; the error code tells.
     return w->Write() == 1 && w->GetErrorCode() == vtkErrorCode::NoError && !errors->Failed;
   };
-  auto writeFailure = [&](const std::string& path) {
-    return Fail("cannot write " + path + (errors->Message.empty() ? "" : " (" + errors->Message + ")"));
+  auto writeFailure = [&](const std::string& path)
+  {
+    return Fail(
+      "cannot write " + path + (errors->Message.empty() ? "" : " (" + errors->Message + ")"));
   };
-  auto writeVtp = [&](vtkPolyData* pd, const std::string& path) {
+  auto writeVtp = [&](vtkPolyData* pd, const std::string& path)
+  {
     vtkNew<vtkXMLPolyDataWriter> w;
     w->SetInputData(pd);
     w->SetFileName(files.Temporary(path).c_str());
@@ -331,8 +339,8 @@ int main(int argc, char* argv[])
     total += s.second;
   }
   std::cout << Program << ": " << (opt.Input.empty() ? "built-in shape" : opt.Input) << " "
-            << dims[0] << "x" << dims[1] << "x" << dims[2] << ": "
-            << surfels << " surfels, " << features->GetNumberOfLines() << " feature edges";
+            << dims[0] << "x" << dims[1] << "x" << dims[2] << ": " << surfels << " surfels, "
+            << features->GetNumberOfLines() << " feature edges";
   if (opt.Interfaces)
     std::cout << " (label interfaces, Ambrosio-Tortorelli's own output)";
   else if (opt.P.Sharpen && opt.P.SecondPass)
@@ -349,8 +357,7 @@ int main(int argc, char* argv[])
     std::cout << "  removed " << removed << " inside components and filled " << filled
               << " cavities smaller than " << opt.P.MinimumComponentSize << " voxels (" << changed
               << " voxels)\n";
-  std::cout
-            << "  time: " << stages.str() << " (total " << total << " s); peak memory "
+  std::cout << "  time: " << stages.str() << " (total " << total << " s); peak memory "
             << static_cast<long>(PeakMemoryMiB()) << " MiB\n";
   for (const auto& f : files.Finals)
     std::cout << "  wrote " << f << "\n";

@@ -70,7 +70,10 @@ CurvatureMedians SphereCurvatures(double R, double r, int reference)
     EXPECT_NEAR(d1.dot(d2), 0.0, 1e-9);
     EXPECT_NEAR(d1.dot(nn), 0.0, 1e-9);
   }
-  return { Percentile(H, 0.5), Percentile(k1, 0.5), Percentile(k2, 0.5), Percentile(K, 0.5),
+  return { Percentile(H, 0.5),
+    Percentile(k1, 0.5),
+    Percentile(k2, 0.5),
+    Percentile(K, 0.5),
     Percentile(halfSum, 0.5) };
 }
 } // namespace
@@ -90,7 +93,13 @@ TEST(IIEstimator, CurvaturesOnSpheresAndPlane)
       const auto m = SphereCurvatures(R, 6.0, reference);
       std::printf("%-13s ref., sphere R=%.0f, r=6: median H*R %.3f  k1*R %.3f  k2*R %.3f  "
                   "(k1+k2)/2*R %.3f  K*R^2 %.3f\n",
-        refNames[reference], R, m.H * R, m.K1 * R, m.K2 * R, m.HalfSum * R, m.K * R * R);
+        refNames[reference],
+        R,
+        m.H * R,
+        m.K1 * R,
+        m.K2 * R,
+        m.HalfSum * R,
+        m.K * R * R);
       if (reference == 2)
       {
         EXPECT_NEAR(m.H * R, 1.0, 0.1);
@@ -121,7 +130,9 @@ TEST(IIEstimator, CurvaturesOnSpheresAndPlane)
       }
     }
     std::printf("%-13s ref., plane, r=6: largest |H|, |k1|, |k2|, |K| over %d surfels: %.2e\n",
-      refNames[reference], count, worst);
+      refNames[reference],
+      count,
+      worst);
     EXPECT_GT(count, 500);
     if (reference >= 1)
     {
@@ -152,8 +163,8 @@ TEST(IIEstimator, CurvaturesOnSpheresAndPlane)
       k2.push_back(cd->GetArray("IIK2")->GetTuple1(c));
     }
     const double mH = Percentile(H, 0.5), m1 = Percentile(k1, 0.5), m2 = Percentile(k2, 0.5);
-    std::printf("tilted plane, r=6, %zu surfels: median H %.4f  k1 %.4f  k2 %.4f\n", H.size(), mH,
-      m1, m2);
+    std::printf(
+      "tilted plane, r=6, %zu surfels: median H %.4f  k1 %.4f  k2 %.4f\n", H.size(), mH, m1, m2);
     EXPECT_GT(H.size(), 1000u);
     EXPECT_LT(std::abs(mH), 0.003);
     EXPECT_LT(std::abs(0.5 * (m1 + m2)), 0.003);
@@ -166,11 +177,14 @@ TEST(IIEstimator, CurvaturesOnSpheresAndPlane)
       const auto m = SphereCurvatures(R, r, 2);
       std::printf("tangent plane ref., sphere R=%.0f, r=%.0f: median H*R %.3f  k1*R %.3f  k2*R "
                   "%.3f\n",
-        R, r, m.H * R, m.K1 * R, m.K2 * R);
+        R,
+        r,
+        m.H * R,
+        m.K1 * R,
+        m.K2 * R);
     }
   }
 }
-
 
 //------------------------------------------------------------------------------
 TEST(IIEstimator, PrincipalCurvaturesAndDirectionsOnTiltedCylinder)
@@ -185,10 +199,14 @@ TEST(IIEstimator, PrincipalCurvaturesAndDirectionsOnTiltedCylinder)
   const double R = 14;
   const V3 a = V3(1, 2, 3).normalized();
   const V3 mid(31.6, 32.2, 31.9);
-  auto image = dgtest::MakeImage(n, n, n, [&](int i, int j, int k) {
-    const V3 d = V3(i, j, k) - mid;
-    return (d - d.dot(a) * a).norm() <= R ? 1.0 : 0.0;
-  });
+  auto image = dgtest::MakeImage(n,
+    n,
+    n,
+    [&](int i, int j, int k)
+    {
+      const V3 d = V3(i, j, k) - mid;
+      return (d - d.dot(a) * a).norm() <= R ? 1.0 : 0.0;
+    });
   for (double r : { 4.0, 6.0 })
   {
     auto out = Estimate(image, r, true);
@@ -218,7 +236,15 @@ TEST(IIEstimator, PrincipalCurvaturesAndDirectionsOnTiltedCylinder)
     const double c1 = Percentile(around1, 0.5), a1p95 = Percentile(along1, 0.95);
     std::printf("tilted cylinder R=%.0f, r=%.0f, %zu surfels: median k1*R %.3f  k2*R %.3f  "
                 "|d1.axis| median %.3f p95 %.3f  |d1.around| %.3f  |d2.axis| %.3f\n",
-      R, r, k1.size(), m1 * R, m2 * R, a1, a1p95, c1, a2);
+      R,
+      r,
+      k1.size(),
+      m1 * R,
+      m2 * R,
+      a1,
+      a1p95,
+      c1,
+      a2);
     EXPECT_GT(k1.size(), 2000u);
     EXPECT_NEAR(m1 * R, 1.0, 0.1);
     EXPECT_NEAR(m2 * R, 0.0, 0.1);
@@ -238,10 +264,14 @@ TEST(IIEstimator, ConcaveSphericalCavity)
   const int n = 64;
   const double R = 20;
   const V3 mid(31.7, 32.2, 31.4);
-  auto image = dgtest::MakeImage(n, n, n, [&](int i, int j, int k) {
-    const bool inBlock = std::min({ i, j, k }) >= 2 && std::max({ i, j, k }) <= n - 3;
-    return inBlock && (V3(i, j, k) - mid).norm() > R ? 1.0 : 0.0;
-  });
+  auto image = dgtest::MakeImage(n,
+    n,
+    n,
+    [&](int i, int j, int k)
+    {
+      const bool inBlock = std::min({ i, j, k }) >= 2 && std::max({ i, j, k }) <= n - 3;
+      return inBlock && (V3(i, j, k) - mid).norm() > R ? 1.0 : 0.0;
+    });
   auto out = Estimate(image, 6.0, true);
   const auto centres = dgtest::SurfelCenters(out);
   vtkCellData* cd = out->GetCellData();
@@ -261,7 +291,12 @@ TEST(IIEstimator, ConcaveSphericalCavity)
   const double mH = Percentile(H, 0.5), m1 = Percentile(k1, 0.5), m2 = Percentile(k2, 0.5);
   std::printf("spherical cavity R=%.0f, r=6, %zu surfels: median H*R %.3f  k1*R %.3f  k2*R %.3f; "
               "smallest cos(normal, towards the centre) %.3f\n",
-    R, H.size(), mH, m1, m2, *std::min_element(inward.begin(), inward.end()));
+    R,
+    H.size(),
+    mH,
+    m1,
+    m2,
+    *std::min_element(inward.begin(), inward.end()));
   EXPECT_GT(H.size(), 5000u);
   EXPECT_NEAR(mH, -1.0, 0.1);
   EXPECT_NEAR(0.5 * (m1 + m2), -1.0, 0.1);
@@ -279,10 +314,14 @@ TEST(IIEstimator, CurvatureSignsOnTorus)
   const int n = 88;
   const double Rt = 26, a = 12;
   const V3 mid(43.6, 44.2, 43.9);
-  auto image = dgtest::MakeImage(n, n, n, [&](int i, int j, int k) {
-    const V3 d = V3(i, j, k) - mid;
-    return std::hypot(std::hypot(d.x(), d.y()) - Rt, d.z()) <= a ? 1.0 : 0.0;
-  });
+  auto image = dgtest::MakeImage(n,
+    n,
+    n,
+    [&](int i, int j, int k)
+    {
+      const V3 d = V3(i, j, k) - mid;
+      return std::hypot(std::hypot(d.x(), d.y()) - Rt, d.z()) <= a ? 1.0 : 0.0;
+    });
   // r = 4 is printed for comparison: per surfel its curvatures are too noisy
   // for signs (a centre 0.3 voxel off the surface moves H by 4 * 0.3 / r^2).
   for (double r : { 4.0, 6.0 })
@@ -326,8 +365,20 @@ TEST(IIEstimator, CurvatureSignsOnTorus)
                 "true)*a %.3f (|.| %.3f)  (H - true)*a %.3f; median |d1.azimuth| %.3f  "
                 "|d2.azimuth| %.3f; K < 0 on %d of %d saddle surfels, K > 0 on %d of %d "
                 "elliptic ones\n",
-      Rt, a, r, e1.size(), m1, m2, Percentile(abs2, 0.5), mH, az1, az2, saddlesFound, saddles,
-      ellipticFound, elliptic);
+      Rt,
+      a,
+      r,
+      e1.size(),
+      m1,
+      m2,
+      Percentile(abs2, 0.5),
+      mH,
+      az1,
+      az2,
+      saddlesFound,
+      saddles,
+      ellipticFound,
+      elliptic);
     ASSERT_GT(saddles, 2000);
     ASSERT_GT(elliptic, 5000);
     if (r < 5)

@@ -70,7 +70,8 @@ TEST(IIEstimator, WorldUnitsSpacingAndDirectionMatrix)
                 .norm(),
       1e-12);
     ASSERT_NEAR(out->GetCellData()->GetArray("IIMeanCurvature")->GetTuple1(c),
-      0.5 * ref->GetCellData()->GetArray("IIMeanCurvature")->GetTuple1(c), 1e-12);
+      0.5 * ref->GetCellData()->GetArray("IIMeanCurvature")->GetTuple1(c),
+      1e-12);
   }
 
   // A direction matrix (rotation by 90 degrees about z): world normals and
@@ -127,16 +128,21 @@ struct SphereErrors
 // ball (the estimator before anisotropic support), normals through M^-T.
 SphereErrors AnisotropicSphere(double R, double rw, const double spacing[3], bool indexBall)
 {
-  const V3 c(0.5 * (2 * R + 3 * rw) + 0.31, 0.5 * (2 * R + 3 * rw) - 0.23, 0.5 * (2 * R + 3 * rw) + 0.17);
+  const V3 c(
+    0.5 * (2 * R + 3 * rw) + 0.31, 0.5 * (2 * R + 3 * rw) - 0.23, 0.5 * (2 * R + 3 * rw) + 0.17);
   int n[3];
   for (int a = 0; a < 3; ++a)
   {
     n[a] = static_cast<int>(std::ceil((2 * R + 3 * rw) / spacing[a])) + 2;
   }
-  auto image = dgtest::MakeImage(n[0], n[1], n[2], [&](int i, int j, int k) {
-    const V3 p(i * spacing[0], j * spacing[1], k * spacing[2]);
-    return (p - c).norm() <= R ? 1.0 : 0.0;
-  });
+  auto image = dgtest::MakeImage(n[0],
+    n[1],
+    n[2],
+    [&](int i, int j, int k)
+    {
+      const V3 p(i * spacing[0], j * spacing[1], k * spacing[2]);
+      return (p - c).norm() <= R ? 1.0 : 0.0;
+    });
   image->SetSpacing(spacing[0], spacing[1], spacing[2]);
   vtkNew<vtkDigitalSurfaceFilter> surface;
   surface->SetInputData(image);
@@ -164,7 +170,8 @@ SphereErrors AnisotropicSphere(double R, double rw, const double spacing[3], boo
   for (vtkIdType s = 0; s < out->GetNumberOfCells(); ++s)
   {
     const int ijk[3] = { static_cast<int>(vox->GetComponent(s, 0)),
-      static_cast<int>(vox->GetComponent(s, 1)), static_cast<int>(vox->GetComponent(s, 2)) };
+      static_cast<int>(vox->GetComponent(s, 1)),
+      static_cast<int>(vox->GetComponent(s, 2)) };
     const int d = static_cast<int>(dir->GetTuple1(s));
     V3 g(ijk[0], ijk[1], ijk[2]);
     g[d / 2] += (d & 1) ? 0.5 : -0.5;
@@ -182,8 +189,12 @@ SphereErrors AnisotropicSphere(double R, double rw, const double spacing[3], boo
     k1.push_back(cd->GetArray("IIK1")->GetTuple1(s) * R);
     k2.push_back(cd->GetArray("IIK2")->GetTuple1(s) * R);
   }
-  return { Mean(errors), Percentile(errors, 0.95), Percentile(H, 0.5), Percentile(k1, 0.5),
-    Percentile(k2, 0.5), errors.size() };
+  return { Mean(errors),
+    Percentile(errors, 0.95),
+    Percentile(H, 0.5),
+    Percentile(k1, 0.5),
+    Percentile(k2, 0.5),
+    errors.size() };
 }
 } // namespace
 
@@ -200,34 +211,47 @@ TEST(IIEstimator, AnisotropicSpacingSpheres)
     const char* name;
     double spacing[3];
   };
-  const Case cases[] = { { "1 x 1 x 1", { 1, 1, 1 } }, { "2.5 x 2.5 x 2.5", { 2.5, 2.5, 2.5 } },
-    { "1 x 1 x 2", { 1, 1, 2 } }, { "0.7 x 0.7 x 2.5", { 0.7, 0.7, 2.5 } } };
+  const Case cases[] = { { "1 x 1 x 1", { 1, 1, 1 } },
+    { "2.5 x 2.5 x 2.5", { 2.5, 2.5, 2.5 } },
+    { "1 x 1 x 2", { 1, 1, 2 } },
+    { "0.7 x 0.7 x 2.5", { 0.7, 0.7, 2.5 } } };
   SphereErrors e[4];
   for (int c = 0; c < 4; ++c)
   {
     e[c] = AnisotropicSphere(R, rw, cases[c].spacing, false);
     std::printf("sphere R=%g, world ball r=%g, spacing %-16s %6zu surfels: normals mean %.2f "
                 "p95 %.2f deg; median H*R %.3f k1*R %.3f k2*R %.3f\n",
-      R, rw, cases[c].name, e[c].Surfels, e[c].MeanAngle, e[c].P95Angle, e[c].MedianHR,
-      e[c].MedianK1R, e[c].MedianK2R);
+      R,
+      rw,
+      cases[c].name,
+      e[c].Surfels,
+      e[c].MeanAngle,
+      e[c].P95Angle,
+      e[c].MedianHR,
+      e[c].MedianK1R,
+      e[c].MedianK2R);
   }
   const double worstIso = std::max(e[0].MeanAngle, e[1].MeanAngle);
   for (int c = 2; c < 4; ++c)
   {
     const SphereErrors old = AnisotropicSphere(R, rw, cases[c].spacing, true);
     std::printf("  same with the index-space ball (before): normals mean %.2f p95 %.2f deg\n",
-      old.MeanAngle, old.P95Angle);
+      old.MeanAngle,
+      old.P95Angle);
     EXPECT_LT(e[c].MeanAngle, 1.25 * worstIso) << cases[c].name;
     EXPECT_LT(e[c].MeanAngle, old.MeanAngle) << cases[c].name;
-    EXPECT_NEAR(e[c].MedianHR, 1.0, std::max(0.1, 1.25 * std::max(std::abs(e[0].MedianHR - 1),
-                                                    std::abs(e[1].MedianHR - 1))))
+    EXPECT_NEAR(e[c].MedianHR,
+      1.0,
+      std::max(0.1, 1.25 * std::max(std::abs(e[0].MedianHR - 1), std::abs(e[1].MedianHR - 1))))
       << cases[c].name;
     // Principal curvatures carry more lattice noise (CurvaturesOnSpheresAndPlane):
     // bounded by the isotropic envelope too.
-    EXPECT_NEAR(e[c].MedianK1R, 1.0,
+    EXPECT_NEAR(e[c].MedianK1R,
+      1.0,
       1.25 * std::max(std::abs(e[0].MedianK1R - 1), std::abs(e[1].MedianK1R - 1)))
       << cases[c].name;
-    EXPECT_NEAR(e[c].MedianK2R, 1.0,
+    EXPECT_NEAR(e[c].MedianK2R,
+      1.0,
       1.25 * std::max(std::abs(e[0].MedianK2R - 1), std::abs(e[1].MedianK2R - 1)))
       << cases[c].name;
   }

@@ -49,9 +49,10 @@ struct Surfel
 std::vector<Surfel> AllSurfels(const std::vector<std::uint8_t>& m, const int dims[3])
 {
   std::vector<Surfel> out;
-  auto in = [&](int i, int j, int k) {
+  auto in = [&](int i, int j, int k)
+  {
     return i >= 0 && j >= 0 && k >= 0 && i < dims[0] && j < dims[1] && k < dims[2] &&
-      m[(static_cast<std::size_t>(k) * dims[1] + j) * dims[0] + i];
+           m[(static_cast<std::size_t>(k) * dims[1] + j) * dims[0] + i];
   };
   for (int k = 0; k < dims[2]; ++k)
     for (int j = 0; j < dims[1]; ++j)
@@ -76,8 +77,9 @@ std::vector<Surfel> AllSurfels(const std::vector<std::uint8_t>& m, const int dim
 
 // Angular errors (degrees) of the II normals to the true normals, on the
 // surfels farther than `edgeMargin` from every sharp edge.
-std::vector<double> AngleErrors(
-  const dgtest::ImplicitShape& shape, vtkPolyData* out, double edgeMargin)
+std::vector<double> AngleErrors(const dgtest::ImplicitShape& shape,
+  vtkPolyData* out,
+  double edgeMargin)
 {
   std::vector<double> errors;
   const auto centres = dgtest::SurfelCenters(out);
@@ -133,8 +135,9 @@ TEST(IIKernel, MatchesBruteForceOnRandomShapesIncludingImageBorders)
   // Random voxels (many runs per row) and unions of random balls touching the
   // image border (smooth-ish shapes cut by the border); the larger image has
   // surfels whose balls lie inside the grid (the kernel's unclipped path).
-  const Case cases[] = { { { 11, 9, 13 }, 0 }, { { 18, 20, 16 }, 1 }, { { 23, 7, 12 }, 1 },
-    { { 34, 30, 32 }, 1 } };
+  const Case cases[] = {
+    { { 11, 9, 13 }, 0 }, { { 18, 20, 16 }, 1 }, { { 23, 7, 12 }, 1 }, { { 34, 30, 32 }, 1 }
+  };
   for (const Case& c : cases)
   {
     const int* dims = c.dims;
@@ -224,7 +227,7 @@ TEST(IIKernel, MatchesBruteForceOnRandomShapesIncludingImageBorders)
         borderSurfels += o[s.D / 2] < 0 || o[s.D / 2] >= dims[s.D / 2];
         const int reach = static_cast<int>(std::ceil(r)) + 1;
         interiorBalls += std::min({ s.I, s.J, s.K }) >= reach && s.I + reach < dims[0] &&
-          s.J + reach < dims[1] && s.K + reach < dims[2];
+                         s.J + reach < dims[1] && s.K + reach < dims[2];
       }
       EXPECT_LE(worst, 1e-9) << "r " << r << (ball.scale ? " scaled" : "");
     }
@@ -296,13 +299,16 @@ TEST(IIEstimator, MultigridConvergenceOnSphere)
       const auto err = AngleErrors(*shape, out, 0);
       const double mean = Mean(err);
       std::printf("law r ~ h^%s: R %3.0f voxels, r %5.2f voxels: mean error %.3f deg, 95%% %.3f\n",
-        law == 0 ? "(-2/3)" : "(-1/3)", R, r, mean, Percentile(err, 0.95));
+        law == 0 ? "(-2/3)" : "(-1/3)",
+        R,
+        r,
+        mean,
+        Percentile(err, 0.95));
       EXPECT_LT(mean, previous) << "R " << R;
       previous = mean;
     }
   }
 }
-
 
 //------------------------------------------------------------------------------
 TEST(IIEstimator, NoiseFreeNormalsAgreeWithTrivialNormals)
@@ -315,8 +321,10 @@ TEST(IIEstimator, NoiseFreeNormalsAgreeWithTrivialNormals)
   std::unique_ptr<dgtest::ImplicitShape> shapes[] = { dgtest::MakeSphere(V3(20.3, 20.6, 20.2), 15),
     dgtest::MakeSphere(V3(24.1, 23.8, 24.3), 21),
     dgtest::MakeRotatedCube(V3(24.2, 23.9, 24.1), 14, 20, 30, 40),
-    dgtest::MakeOctahedron(V3(24.2, 23.9, 24.1), 18), dgtest::MakeCubeSphere(V3(24.2, 23.9, 24.1), 14, 17),
-    dgtest::MakeCylinder(V3(24.2, 23.9, 24.1), 12, 15), dgtest::MakeWedge(V3(24.2, 23.9, 24.1), 15) };
+    dgtest::MakeOctahedron(V3(24.2, 23.9, 24.1), 18),
+    dgtest::MakeCubeSphere(V3(24.2, 23.9, 24.1), 14, 17),
+    dgtest::MakeCylinder(V3(24.2, 23.9, 24.1), 12, 15),
+    dgtest::MakeWedge(V3(24.2, 23.9, 24.1), 15) };
   for (const auto& shape : shapes)
   {
     auto image = dgtest::Digitize(*shape, 48);
@@ -350,7 +358,9 @@ TEST(IIEstimator, NoiseFreeNormalsAgreeWithTrivialNormals)
       {
         std::printf("%-12s r=%2.0f: %lld of %lld surfels within r+1 of a sharp edge have a "
                     "non-positive dot with the trivial normal\n",
-          shape->Name().c_str(), r, static_cast<long long>(badNearEdges),
+          shape->Name().c_str(),
+          r,
+          static_cast<long long>(badNearEdges),
           static_cast<long long>(nearEdges));
       }
     }
@@ -359,10 +369,10 @@ TEST(IIEstimator, NoiseFreeNormalsAgreeWithTrivialNormals)
 
 TEST(IIEstimator, OrientationUnderNoise)
 {
-  std::unique_ptr<dgtest::ImplicitShape> shapes[] = {
-    dgtest::MakeRotatedCube(V3(31.7, 32.2, 31.9), 20, 20, 30, 40),
-    dgtest::MakeSphere(V3(32.3, 31.6, 32.2), 24), dgtest::MakeWedge(V3(31.7, 32.2, 31.9), 20)
-  };
+  std::unique_ptr<dgtest::ImplicitShape> shapes[] = { dgtest::MakeRotatedCube(
+                                                        V3(31.7, 32.2, 31.9), 20, 20, 30, 40),
+    dgtest::MakeSphere(V3(32.3, 31.6, 32.2), 24),
+    dgtest::MakeWedge(V3(31.7, 32.2, 31.9), 20) };
   for (const auto& shape : shapes)
   {
     const int n = 64;
@@ -405,8 +415,13 @@ TEST(IIEstimator, OrientationUnderNoise)
       std::printf("%-14s k=0.3 r=%.0f: %lld surfels within 2 voxels; outward: barycentre rule "
                   "%.4f, trivial-normal rule %.4f; farther than 2 voxels from sharp edges "
                   "(%lld): %.4f\n",
-        shape->Name().c_str(), r, static_cast<long long>(near), frac, fracTrivial,
-        static_cast<long long>(away), fracAway);
+        shape->Name().c_str(),
+        r,
+        static_cast<long long>(near),
+        frac,
+        fracTrivial,
+        static_cast<long long>(away),
+        fracAway);
       EXPECT_GT(near, 5000);
       // r = 3 is of the size of the noise's bumps: 98.3% (cube), 98.6% (wedge),
       // the failures mostly (84%, 81%) within 2 voxels of a sharp edge.
@@ -443,7 +458,6 @@ TEST(IIEstimator, SameResultWhateverTheThreadCount)
   }
 }
 
-
 TEST(IIEstimator, BadInputGivesAnError)
 {
   auto image = dgtest::Ball(20, 6);
@@ -454,7 +468,8 @@ TEST(IIEstimator, BadInputGivesAnError)
   vtkNew<dgtest::ErrorObserver> obs;
   obs->Observe(ii);
   obs->Observe(ii->GetExecutive());
-  auto expectError = [&](const char* what, const char* word) {
+  auto expectError = [&](const char* what, const char* word)
+  {
     obs->Clear();
     ii->Modified();
     ii->Update();
@@ -517,14 +532,16 @@ TEST(IIEstimator, ProgressAbortAndPrintSelf)
   std::vector<double> progress;
   vtkNew<vtkCallbackCommand> onProgress;
   onProgress->SetClientData(&progress);
-  onProgress->SetCallback([](vtkObject* caller, unsigned long, void* data, void* callData) {
-    auto* p = static_cast<std::vector<double>*>(data);
-    p->push_back(*static_cast<double*>(callData));
-    if (p->size() == 3)
+  onProgress->SetCallback(
+    [](vtkObject* caller, unsigned long, void* data, void* callData)
     {
-      static_cast<vtkAlgorithm*>(caller)->SetAbortExecute(1);
-    }
-  });
+      auto* p = static_cast<std::vector<double>*>(data);
+      p->push_back(*static_cast<double*>(callData));
+      if (p->size() == 3)
+      {
+        static_cast<vtkAlgorithm*>(caller)->SetAbortExecute(1);
+      }
+    });
   ii->AddObserver(vtkCommand::ProgressEvent, onProgress);
   vtkNew<dgtest::ErrorObserver> obs;
   obs->Observe(ii->GetExecutive());

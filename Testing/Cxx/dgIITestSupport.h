@@ -40,8 +40,10 @@ inline vtkSmartPointer<vtkImageData> ImageOf(const std::vector<std::uint8_t>& m,
 }
 
 // Surface + II estimator on an image; returns the estimator's output.
-inline vtkSmartPointer<vtkPolyData> Estimate(
-  vtkImageData* image, double r, bool curvatures = false, int reference = 2)
+inline vtkSmartPointer<vtkPolyData> Estimate(vtkImageData* image,
+  double r,
+  bool curvatures = false,
+  int reference = 2)
 {
   vtkNew<vtkDigitalSurfaceFilter> surface;
   surface->SetInputData(image);
