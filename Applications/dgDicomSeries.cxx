@@ -1,4 +1,5 @@
 #include "dgDicomSeries.h"
+#include "dgImageHeader.h"
 #include "dgImageInput.h"
 
 #ifdef DG_HAVE_GDCM

@@ -1,16 +1,16 @@
 #include "dgImageInput.h"
 #include "dgDicomSeries.h"
+#include "dgImageHeader.h"
 
 #include "vtkDGtalVolReader.h"
 #include "vtkNIfTIVolumeReader.h"
+#include "vtkOrientedImageReader.h"
 
 #include <vtkCallbackCommand.h>
 #include <vtkMatrix3x3.h>
 #include <vtkDataArray.h>
 #include <vtkExecutive.h>
-#include <vtkMetaImageReader.h>
 #include <vtkNew.h>
-#include <vtkNrrdReader.h>
 #include <vtkOutputWindow.h>
 #include <vtkPointData.h>
 #include <vtkStringOutputWindow.h>
@@ -71,243 +71,6 @@ bool IsFile(const std::string& path)
   return stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
 }
 
-// The header lines of a MetaImage or NRRD file (text up to the data; at most
-// 64 KiB), lower-cased keys: what VTK's readers would silently drop.
-std::vector<std::pair<std::string, std::string>> HeaderFields(const std::string& path, char separator)
-{
-  std::vector<std::pair<std::string, std::string>> fields;
-  std::ifstream in(path, std::ios::binary);
-  std::string line;
-  std::size_t read = 0;
-  while (read < 65536 && std::getline(in, line))
-  {
-    read += line.size() + 1;
-    if (!line.empty() && line.back() == '\r')
-      line.pop_back();
-    if (line.empty())
-      break; // NRRD: the blank line before the data
-    const auto at = line.find(separator);
-    if (at == std::string::npos)
-      continue;
-    std::string key = line.substr(0, at), value = line.substr(at + 1);
-    auto trim = [](std::string& t) {
-      while (!t.empty() && std::isspace(static_cast<unsigned char>(t.front())))
-        t.erase(t.begin());
-      while (!t.empty() && std::isspace(static_cast<unsigned char>(t.back())))
-        t.pop_back();
-    };
-    trim(key);
-    trim(value);
-    std::transform(key.begin(), key.end(), key.begin(), [](unsigned char c) { return std::tolower(c); });
-    fields.emplace_back(key, value);
-    if (key == "elementdatafile")
-      break; // MetaImage: the data follow
-  }
-  return fields;
-}
-
-
-// The geometry of a MetaImage or NRRD header, which VTK's readers drop
-// (TransformMatrix, space directions, space): world = Origin + Direction ·
-// diag(Spacing) · index, in LPS (RAS when asked).
-struct HeaderGeometry
-{
-  bool Has = false; // false: keep what VTK's reader gives (axis-aligned)
-  double Origin[3] = { 0, 0, 0 };
-  double Spacing[3] = { 1, 1, 1 };
-  double Direction[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 }; // row-major
-};
-
-std::string Lower(std::string v)
-{
-  std::transform(v.begin(), v.end(), v.begin(), [](unsigned char c) { return std::tolower(c); });
-  return v;
-}
-
-std::string Fmt(double v)
-{
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", v);
-  return buf;
-}
-
-// Direction and spacing from three axis vectors (columns): normalised
-// columns, their lengths; refused when one is zero or two are not at right
-// angles (a shear, which origin + direction + spacing cannot carry).
-std::string FromColumns(const double columns[3][3], const char* name, HeaderGeometry& g)
-{
-  double unit[3][3];
-  for (int a = 0; a < 3; ++a)
-  {
-    const double len = std::sqrt(columns[a][0] * columns[a][0] + columns[a][1] * columns[a][1] +
-      columns[a][2] * columns[a][2]);
-    if (!(len > 0) || !std::isfinite(len))
-      return std::string("its ") + name + " give axis " + std::to_string(a) + " no length";
-    for (int r = 0; r < 3; ++r)
-      unit[a][r] = columns[a][r] / len;
-    g.Spacing[a] *= len;
-  }
-  for (int a = 0; a < 3; ++a)
-    for (int b = a + 1; b < 3; ++b)
-    {
-      const double c = unit[a][0] * unit[b][0] + unit[a][1] * unit[b][1] + unit[a][2] * unit[b][2];
-      if (std::abs(c) > 1e-4)
-        return std::string("its ") + name + " are sheared: axes " + std::to_string(a) + " and " +
-          std::to_string(b) + " at " + Fmt(std::acos(std::max(-1.0, std::min(1.0, c))) * 180 / M_PI) +
-          " degrees, not 90 (origin, spacing and direction cannot carry a shear)";
-    }
-  for (int r = 0; r < 3; ++r)
-    for (int a = 0; a < 3; ++a)
-      g.Direction[3 * r + a] = unit[a][r];
-  g.Has = true;
-  return "";
-}
-
-// Empty on success, else the problem (one line, without the file's name).
-std::string ReadHeaderGeometry(const std::string& path, bool nrrd, bool ras, HeaderGeometry& g)
-{
-  const auto fields = HeaderFields(path, nrrd ? ':' : '=');
-  auto field = [&](std::initializer_list<const char*> keys) -> const std::string* {
-    for (const char* k : keys)
-      for (const auto& f : fields)
-        if (f.first == k)
-          return &f.second;
-    return nullptr;
-  };
-  // The patient space the header is written in, as a flip of LPS.
-  double flip[3] = { 1, 1, 1 };
-  double columns[3][3];
-  if (!nrrd)
-  {
-    const std::string* ndims = field({ "ndims" });
-    if (!ndims || ParseNumbers(*ndims) != std::vector<double>{ 3 })
-      return ""; // 2-D or 4-D: VTK's reader, as before
-    if (const std::string* o = field({ "offset", "origin", "position" }))
-    {
-      const auto v = ParseNumbers(*o);
-      if (v.size() != 3)
-        return "its Offset (" + *o + ") is not three numbers";
-      std::copy(v.begin(), v.end(), g.Origin);
-    }
-    if (const std::string* sp = field({ "elementspacing", "elementsize" }))
-    {
-      const auto v = ParseNumbers(*sp);
-      if (v.size() != 3)
-        return "its ElementSpacing (" + *sp + ") is not three numbers";
-      std::copy(v.begin(), v.end(), g.Spacing);
-    }
-    double m[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
-    if (const std::string* t = field({ "transformmatrix", "rotation", "orientation" }))
-    {
-      const auto v = ParseNumbers(*t);
-      if (v.size() != 9)
-        return "its TransformMatrix (" + *t + ") is not nine numbers";
-      std::copy(v.begin(), v.end(), m);
-    }
-    // ITK's MetaImageIO: the i-th triple is the direction of axis i.
-    for (int a = 0; a < 3; ++a)
-      for (int r = 0; r < 3; ++r)
-        columns[a][r] = m[3 * a + r];
-    if (std::string why = FromColumns(columns, "TransformMatrix columns", g); !why.empty())
-      return why;
-  }
-  else
-  {
-    if (const std::string* space = field({ "space" }))
-    {
-      const std::string v = Lower(*space);
-      if (v == "left-posterior-superior" || v == "lps")
-        ;
-      else if (v == "right-anterior-superior" || v == "ras")
-        flip[0] = flip[1] = -1;
-      else if (v == "left-anterior-superior" || v == "las")
-        flip[1] = -1;
-      else
-        return "its space '" + *space + "' is not a patient space this reader converts to LPS "
-          "(left-posterior-superior, right-anterior-superior, left-anterior-superior)";
-    }
-    const std::string* dirs = field({ "space directions" });
-    if (!dirs)
-      return ""; // axis-aligned (spacings): VTK's reader, as before
-    std::vector<std::vector<double>> vectors;
-    for (std::size_t at = dirs->find('('); at != std::string::npos; at = dirs->find('(', at + 1))
-    {
-      const auto close = dirs->find(')', at);
-      if (close == std::string::npos)
-        return "its space directions (" + *dirs + ") are not 3-vectors in parentheses";
-      vectors.push_back(ParseNumbers(dirs->substr(at + 1, close - at - 1)));
-    }
-    if (vectors.size() != 3 || std::any_of(vectors.begin(), vectors.end(), [](const auto& v) { return v.size() != 3; }))
-      return "its space directions (" + *dirs + ") are not three 3-vectors";
-    for (int a = 0; a < 3; ++a)
-      for (int r = 0; r < 3; ++r)
-        columns[a][r] = flip[r] * vectors[a][r];
-    if (const std::string* o = field({ "space origin" }))
-    {
-      const auto v = ParseNumbers(*o);
-      if (v.size() != 3)
-        return "its space origin (" + *o + ") is not a 3-vector";
-      for (int r = 0; r < 3; ++r)
-        g.Origin[r] = flip[r] * v[r];
-    }
-    if (std::string why = FromColumns(columns, "space directions", g); !why.empty())
-      return why;
-  }
-  if (ras)
-  {
-    for (int r = 0; r < 2; ++r)
-    {
-      g.Origin[r] = -g.Origin[r];
-      for (int a = 0; a < 3; ++a)
-        g.Direction[3 * r + a] = -g.Direction[3 * r + a];
-    }
-  }
-  return "";
-}
-
-// VTK's MetaImage or NRRD reader with the header's geometry put on its
-// output, in the pipeline information too, so that sub-extents (pieces)
-// keep it.
-template <class Base>
-class OrientedReader : public Base
-{
-public:
-  static OrientedReader* New()
-  {
-    auto* r = new OrientedReader;
-    r->InitializeObjectBase();
-    return r;
-  }
-  HeaderGeometry Geometry;
-
-protected:
-  int RequestInformation(vtkInformation* request, vtkInformationVector** in, vtkInformationVector* out) override
-  {
-    const int ok = Base::RequestInformation(request, in, out);
-    if (ok && this->Geometry.Has)
-    {
-      vtkInformation* info = out->GetInformationObject(0);
-      info->Set(vtkDataObject::ORIGIN(), this->Geometry.Origin, 3);
-      info->Set(vtkDataObject::SPACING(), this->Geometry.Spacing, 3);
-      info->Set(vtkDataObject::DIRECTION(), this->Geometry.Direction, 9);
-    }
-    return ok;
-  }
-  int RequestData(vtkInformation* request, vtkInformationVector** in, vtkInformationVector* out) override
-  {
-    const int ok = Base::RequestData(request, in, out);
-    if (this->Geometry.Has)
-    {
-      if (auto* image = vtkImageData::GetData(out))
-      {
-        image->SetOrigin(this->Geometry.Origin);
-        image->SetSpacing(this->Geometry.Spacing);
-        image->SetDirectionMatrix(this->Geometry.Direction);
-      }
-    }
-    return ok;
-  }
-};
 } // namespace
 
 std::string Extension(const std::string& path)
@@ -368,36 +131,26 @@ vtkSmartPointer<vtkAlgorithm> MakeReader(const std::string& path, std::string& e
     r->SetFileName(path.c_str());
     reader = r;
   }
-  else if (ext == "mha" || ext == "mhd")
+  else if (ext == "mha" || ext == "mhd" || ext == "nrrd" || ext == "nhdr")
   {
-    auto r = vtkSmartPointer<OrientedReader<vtkMetaImageReader>>::New();
+    // The module's reader: VTK's MetaImage or NRRD reader with the header's
+    // orientation put on the image. The header is checked here first so
+    // that the program's message names the file once.
+    const bool nrrd = ext == "nrrd" || ext == "nhdr";
+    auto r = vtkSmartPointer<vtkOrientedImageReader>::New();
     if (!r->CanReadFile(path.c_str()))
     {
-      error = "'" + path + "' is not a readable MetaImage file";
+      error = "'" + path + "' is not a readable " + (nrrd ? "NRRD" : "MetaImage") + " file";
       return nullptr;
     }
-    if (const std::string why = ReadHeaderGeometry(path, false, options.Ras, r->Geometry); !why.empty())
+    HeaderGeometry g;
+    if (const std::string why = ReadHeaderGeometry(path, nrrd, options.Ras, g); !why.empty())
     {
       error = "cannot read '" + path + "': " + why;
       return nullptr;
     }
     r->SetFileName(path.c_str());
-    reader = r;
-  }
-  else if (ext == "nrrd" || ext == "nhdr")
-  {
-    auto r = vtkSmartPointer<OrientedReader<vtkNrrdReader>>::New();
-    if (!r->CanReadFile(path.c_str()))
-    {
-      error = "'" + path + "' is not a readable NRRD file";
-      return nullptr;
-    }
-    if (const std::string why = ReadHeaderGeometry(path, true, options.Ras, r->Geometry); !why.empty())
-    {
-      error = "cannot read '" + path + "': " + why;
-      return nullptr;
-    }
-    r->SetFileName(path.c_str());
+    r->SetCoordinateSystem(options.Ras ? vtkOrientedImageReader::RAS : vtkOrientedImageReader::LPS);
     reader = r;
   }
   else
@@ -592,20 +345,6 @@ bool CheckImagePiece(vtkAlgorithm* reader, const std::string& path, std::string&
     return false;
   }
   return true;
-}
-
-std::vector<double> ParseNumbers(const std::string& text)
-{
-  std::vector<double> out;
-  std::string t = text;
-  for (char& c : t)
-    if (c == '(' || c == ')' || c == ',' || c == '\\')
-      c = ' ';
-  std::istringstream ss(t);
-  double v;
-  while (ss >> v)
-    out.push_back(v);
-  return out;
 }
 
 } // namespace dg

@@ -44,11 +44,6 @@ vtkSmartPointer<vtkAlgorithm> OpenImagePieces(const std::string& path, std::stri
 /// lacks its voxels (truncated or corrupt file).
 bool CheckImagePiece(vtkAlgorithm* reader, const std::string& path, std::string& error);
 
-/// The numbers of a header value, separated by blanks, commas, parentheses
-/// (NRRD's "(1,0,0)") or backslashes (DICOM's "1.5\\-2\\3"); what does not
-/// parse ends the list.
-std::vector<double> ParseNumbers(const std::string& text);
-
 /// The lower-case extension of path ("vol", "nrrd", ...; "" for none).
 std::string Extension(const std::string& path);
 }

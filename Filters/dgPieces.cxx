@@ -1,6 +1,11 @@
 #include "dgPieces.h"
 
+#include <vtkCellData.h>
 #include <vtkCommunicator.h>
+#include <vtkDataArray.h>
+#include <vtkImageData.h>
+#include <vtkPointData.h>
+#include <vtkSmartPointer.h>
 #include <vtkExtentTranslator.h>
 #include <vtkInformation.h>
 #include <vtkMultiProcessController.h>
@@ -126,4 +131,44 @@ void CopyExtent(
     }
   }
 }
+void CropImageToExtent(vtkImageData* image, const int box[6], vtkImageData* output)
+{
+  int whole[6];
+  image->GetExtent(whole);
+  vtkPointData* in = image->GetPointData();
+  bool standard = image->GetCellData()->GetNumberOfArrays() == 0;
+  for (int a = 0; a < in->GetNumberOfArrays(); ++a)
+  {
+    standard = standard && in->GetArray(a) && in->GetArray(a)->HasStandardMemoryLayout();
+  }
+  if (std::equal(box, box + 6, whole) || !standard)
+  {
+    output->ShallowCopy(image);
+    output->Crop(box); // nothing to do on the whole extent
+  }
+  else
+  {
+    output->SetExtent(const_cast<int*>(box));
+    for (int a = 0; a < in->GetNumberOfArrays(); ++a)
+    {
+      vtkDataArray* from = in->GetArray(a);
+      vtkSmartPointer<vtkDataArray> to = vtk::TakeSmartPointer(from->NewInstance());
+      to->SetName(from->GetName());
+      to->SetNumberOfComponents(from->GetNumberOfComponents());
+      to->SetNumberOfTuples(output->GetNumberOfPoints());
+      CopyExtent(from->GetVoidPointer(0), whole, box,
+        static_cast<std::size_t>(from->GetDataTypeSize()) * from->GetNumberOfComponents(),
+        to->GetVoidPointer(0));
+      if (from == in->GetScalars())
+      {
+        output->GetPointData()->SetScalars(to);
+      }
+      else
+      {
+        output->GetPointData()->AddArray(to);
+      }
+    }
+  }
+}
+
 } // namespace dg

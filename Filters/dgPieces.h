@@ -11,6 +11,7 @@
 
 #include <cstddef>
 
+class vtkImageData;
 class vtkInformation;
 class vtkMultiProcessController;
 
@@ -46,6 +47,14 @@ bool ExtentEmpty(const int e[6]);
 /// out a sub-extent.
 void CopyExtent(const void* src, const int extent[6], const int box[6], std::size_t voxelBytes,
   void* dst);
+
+/// output = the voxels of `box` (inside image's extent) of every point
+/// array of image, as new box-sized arrays copied row by row
+/// (vtkImageData::Crop copies tuple by tuple: 1.7 s instead of 0.03 s for
+/// half of a 256^3 volume), or a shallow copy when box is the whole extent
+/// (or an array has a non-standard layout: then Crop). Geometry and scalars
+/// as image's.
+void CropImageToExtent(vtkImageData* image, const int box[6], vtkImageData* output);
 } // namespace dg
 
 #endif

@@ -10,7 +10,9 @@ of the voxel corners (to 1e-6 of the spacing), span the box's corners, and
 every quad must face outward in world space, in LPS (default) and RAS
 (--ras); under mpirun (2 ranks, pieces read as sub-extents) the MetaImage
 and NRRD results hold the same. The program's bad-input rows for these
-formats live in test_program.py."""
+formats live in test_program.py, the module reader's in TestBadInputMatrix.
+The module's vtkOrientedImageReader (the plugin's reader) is checked directly
+too: the geometry on its image, LPS and RAS, sub-extents."""
 import os
 import random
 import shutil
@@ -284,6 +286,72 @@ p, pd = run(mha)
 geometry_checks("MetaImage with scaled TransformMatrix columns", p, pd, affine(R))
 if not have_mpi:
     print("skip mpirun runs: mpirun not found")
+
+# ------------------------------------------- the module's reader (ParaView's)
+# vtkOrientedImageReader is what the program and the plugin use: its image
+# carries the geometry (origin, spacing, direction) itself, a sub-extent keeps
+# it, and its surface lies at the analytic corners.
+from digitalgeometry import vtkDigitalSurfaceFilter, vtkOrientedImageReader  # noqa: E402
+
+
+def reader_surface(reader):
+    s = vtkDigitalSurfaceFilter()
+    s.SetInputConnection(reader.GetOutputPort())
+    s.Update()
+    return s.GetOutput()
+
+
+class Ok:
+    returncode = 0
+    stderr = ""
+
+
+for det in (1, -1):
+    R = rotation(det)
+    A = affine(R)
+    for path, what in ((write_mha("reader%+d.mha" % det, R), "MetaImage"),
+                       (write_nrrd("reader%+d.nrrd" % det, R), "NRRD"),
+                       (write_nrrd("reader-ras%+d.nrrd" % det, R, space="right-anterior-superior",
+                                   to_space=FLIP_RAS), "NRRD (RAS space)")):
+        for system, to_world in ((vtkOrientedImageReader.LPS, np.eye(3)), (vtkOrientedImageReader.RAS, FLIP_RAS)):
+            label = "vtkOrientedImageReader, %s det %+d, %s" % (what, det, "LPS" if system == 0 else "RAS")
+            r = vtkOrientedImageReader()
+            r.SetFileName(path)
+            r.SetCoordinateSystem(system)
+            r.Update()
+            im = r.GetOutput()
+            D = np.array([im.GetDirectionMatrix().GetElement(a, b) for a in range(3) for b in range(3)]).reshape(3, 3)
+            check(r.GetOriented() and np.allclose(D, to_world @ R, atol=1e-12)
+                  and np.allclose(im.GetSpacing(), SPACING, atol=1e-12)
+                  and np.allclose(im.GetOrigin(), to_world @ ORIGIN, atol=1e-9),
+                  "%s: origin, spacing and direction on the image" % label)
+            geometry_checks(label, Ok, reader_surface(r), A, to_world)
+        # A sub-extent (a piece) keeps the geometry and the voxels.
+        r = vtkOrientedImageReader()
+        r.SetFileName(path)
+        r.UpdateExtent((3, 15, 2, 17, 4, 12))
+        sub = r.GetOutput()
+        full = vtkOrientedImageReader()
+        full.SetFileName(path)
+        full.Update()
+        v_sub = vtk_to_numpy(sub.GetPointData().GetScalars()).reshape(9, 16, 13)
+        v_full = vtk_to_numpy(full.GetOutput().GetPointData().GetScalars()).reshape(NZ, NY, NX)
+        check(tuple(sub.GetExtent()) == (3, 15, 2, 17, 4, 12) and np.array_equal(v_sub, v_full[4:13, 2:18, 3:16])
+              and np.allclose(sub.GetOrigin(), full.GetOutput().GetOrigin())
+              and np.allclose(sub.GetPoint(0), full.GetOutput().GetPoint(full.GetOutput().ComputePointId([3, 2, 4]))),
+              "vtkOrientedImageReader, %s det %+d: a sub-extent has the box's voxels at their world positions" % (what, det))
+
+# An axis-aligned NRRD (spacings only) keeps VTK's reader's geometry.
+axis = os.path.join(ROOT, "axis.nrrd")
+with open(axis, "wb") as f:
+    f.write(("NRRD0004\ntype: uint8\ndimension: 3\nsizes: %d %d %d\nspacings: 0.5 0.25 2\nencoding: raw\n\n"
+             % (NX, NY, NZ)).encode() + (inside * 5).tobytes())
+r = vtkOrientedImageReader()
+r.SetFileName(axis)
+r.Update()
+check(not r.GetOriented() and np.allclose(r.GetOutput().GetSpacing(), (0.5, 0.25, 2))
+      and r.GetOutput().GetNumberOfPoints() == NX * NY * NZ,
+      "vtkOrientedImageReader: an axis-aligned NRRD keeps its spacings, no orientation")
 
 print("max errors (in units of the smallest spacing): " +
       ", ".join("%s %.2g" % (k, v) for k, v in errors.items() if v is not None))
