@@ -467,10 +467,10 @@ int vtkIINormalEstimator::ExecuteEachLabel(vtkPolyData* surface, vtkImageData* i
     }
     this->NumberOfTrivialFallbacks += one->GetNumberOfTrivialFallbacks();
     std::vector<vtkDataArray*> arrays{ cd->GetNormals() };
-    for (const char* name :
-      { "IIMeanCurvature", "IIGaussianCurvature", "IIK1", "IIK2", "IIK1Direction", "IIK2Direction" })
+    if (this->ComputeCurvatures)
     {
-      if (this->ComputeCurvatures)
+      for (const char* name :
+        { "IIMeanCurvature", "IIGaussianCurvature", "IIK1", "IIK2", "IIK1Direction", "IIK2Direction" })
       {
         arrays.push_back(cd->GetArray(name));
       }
