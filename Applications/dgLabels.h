@@ -4,6 +4,7 @@
 #ifndef dgLabels_h
 #define dgLabels_h
 
+#include "dgLabelMap.h"
 #include "dgPipeline.h"
 
 #include <vtkAlgorithm.h>
@@ -18,36 +19,6 @@
 
 namespace dg
 {
-
-/// "all", or labels and inclusive ranges separated by commas: "1,4,10-12".
-struct LabelSpec
-{
-  bool All = false;
-  std::vector<std::pair<long long, long long>> Ranges;
-  bool Contains(long long label) const;
-};
-/// False with a message naming the bad item.
-bool ParseLabelSpec(const std::string& text, LabelSpec& spec, std::string& error);
-
-struct LabelBox
-{
-  long long Label;
-  int Extent[6];       // the voxels of this label (structured indices)
-  long long Voxels = 0;
-};
-
-/// The non-zero labels of the image's active scalars that `spec` selects,
-/// in increasing order, with their voxel boxes: one pass over the volume.
-/// False with a message when the scalars are missing, have several
-/// components, or hold a value that is not an integer (not a label map).
-bool FindLabels(vtkImageData* image, const LabelSpec& spec, std::vector<LabelBox>& labels,
-  std::string& error);
-
-/// A copy of the image's voxels in `extent` grown by `margin` voxels
-/// (clipped to the image), with the same origin, spacing and direction: its
-/// structured indices are the whole image's, so every output lands where
-/// the whole-volume run puts it.
-vtkSmartPointer<vtkImageData> CropImage(vtkImageData* image, const int extent[6], int margin);
 
 /// The interfaces of a label map (--interfaces): every face between two
 /// different labels, or a label and the background, once, oriented out of

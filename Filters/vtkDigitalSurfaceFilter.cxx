@@ -2,6 +2,7 @@
 
 #include "dgPipelineAbort.h"
 #include "dgCubicalSurface.h"
+#include "dgLabelMap.h"
 #include "dgPieces.h"
 #include "dgVoxelSelection.h"
 
@@ -142,10 +143,14 @@ std::vector<unsigned char> KeepPieceSurfels(
 }
 } // namespace
 
-vtkDigitalSurfaceFilter::~vtkDigitalSurfaceFilter() = default;
+vtkDigitalSurfaceFilter::~vtkDigitalSurfaceFilter()
+{
+  this->SetLabels(nullptr);
+}
 
 vtkDigitalSurfaceFilter::vtkDigitalSurfaceFilter()
 {
+  this->SetLabels("all");
   this->Abort = std::make_unique<dg::PipelineAbort>();
   this->SetInputArrayToProcess(
     0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
@@ -267,6 +272,19 @@ int vtkDigitalSurfaceFilter::ExecutePiece(
                   "along each axis (dimensions "
       << checkedDims[0] << " x " << checkedDims[1] << " x " << checkedDims[2] << ").");
     return 0;
+  }
+  if (this->SelectionMode == EACH_LABEL)
+  {
+    if (piece.Distributed())
+    {
+      vtkErrorMacro("SelectionMode EachLabel runs in one piece only (asked for piece "
+        << piece.Piece << " of " << piece.Pieces << ").");
+      return 0;
+    }
+    return this->ExecuteEachLabel(input,
+      dg::SelectionArray(this->GetInputArrayToProcess(0, inputVector),
+        this->GetInputArrayInformation(0), input),
+      piece.Whole, output, outputVector);
   }
   dg::CubicalSurface surface;
   const bool emptyPiece = dg::ExtentEmpty(piece.Own);
@@ -503,14 +521,143 @@ int vtkDigitalSurfaceFilter::ExecutePiece(
   return 1;
 }
 
+int vtkDigitalSurfaceFilter::ExecuteEachLabel(vtkImageData* input, vtkDataArray* scalars,
+  const int whole[6], vtkPolyData* output, vtkInformationVector* outputVector)
+{
+  if (!scalars)
+  {
+    vtkErrorMacro("Cannot select voxels: the image has no point scalars to read labels from.");
+    return 0;
+  }
+  const int nc = scalars->GetNumberOfComponents();
+  const int component = this->SelectedComponent < 0 && nc == 1 ? 0 : this->SelectedComponent;
+  if (component < 0 || component >= nc)
+  {
+    vtkErrorMacro("Cannot select voxels: array has " << nc << " components, SelectedComponent is "
+      << this->SelectedComponent << ".");
+    return 0;
+  }
+  int ext[6];
+  input->GetExtent(ext);
+  dg::LabelSpec spec;
+  std::vector<dg::LabelBox> boxes;
+  std::string error;
+  if (!dg::ParseLabelSpec(this->Labels ? this->Labels : "", spec, error) ||
+    !dg::FindLabels(scalars, component, ext, spec, boxes, error))
+  {
+    vtkErrorMacro("EachLabel (Labels '" << (this->Labels ? this->Labels : "") << "'): " << error << ".");
+    return 0;
+  }
+  for (const dg::LabelBox& box : boxes)
+  {
+    if (box.Label < VTK_INT_MIN || box.Label > VTK_INT_MAX)
+    {
+      vtkErrorMacro("EachLabel: label " << box.Label << " does not fit the int Label array.");
+      return 0;
+    }
+  }
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkIdTypeArray> offsets, connectivity;
+  offsets->InsertNextValue(0);
+  vtkNew<vtkFloatArray> normals;
+  normals->SetName("Normals");
+  normals->SetNumberOfComponents(3);
+  vtkNew<vtkIntArray> voxels, labels;
+  voxels->SetName("InsideVoxel");
+  voxels->SetNumberOfComponents(3);
+  labels->SetName("Label");
+  vtkNew<vtkUnsignedCharArray> directions;
+  directions->SetName("SurfelDirection");
+  for (std::size_t l = 0; l < boxes.size(); ++l)
+  {
+    // One voxel around the box decides every face of the label; the copy
+    // keeps the structured indices, so points and InsideVoxel are the whole
+    // image's.
+    auto crop = dg::CropImage(input, boxes[l].Extent, 1, scalars, component);
+    vtkNew<vtkDigitalSurfaceFilter> one;
+    one->SetInputData(crop);
+    one->SetSelectionModeToLabel();
+    one->SetLabel(static_cast<double>(boxes[l].Label));
+    one->Update();
+    vtkPolyData* part = one->GetOutput();
+    vtkCellArray* polys = part->GetPolys();
+    if (part->GetNumberOfCells() == 0 || !polys)
+    {
+      vtkErrorMacro("EachLabel: label " << boxes[l].Label << " gave no surface.");
+      return 0;
+    }
+    const vtkIdType base = points->GetNumberOfPoints();
+    const vtkIdType cellBase = connectivity->GetNumberOfValues();
+    points->InsertPoints(base, part->GetNumberOfPoints(), 0, part->GetPoints());
+    vtkNew<vtkIdTypeArray> partConn;
+    polys->ExportLegacyFormat(partConn);
+    // Legacy format: 4, a, b, c, d per quad.
+    for (vtkIdType c = 0; c < polys->GetNumberOfCells(); ++c)
+    {
+      for (int q = 0; q < 4; ++q)
+      {
+        connectivity->InsertNextValue(base + partConn->GetValue(5 * c + 1 + q));
+      }
+      offsets->InsertNextValue(cellBase + 4 * (c + 1));
+    }
+    vtkCellData* cd = part->GetCellData();
+    const vtkIdType n = part->GetNumberOfCells();
+    normals->InsertTuples(normals->GetNumberOfTuples(), n, 0, cd->GetArray("Normals"));
+    voxels->InsertTuples(voxels->GetNumberOfTuples(), n, 0, cd->GetArray("InsideVoxel"));
+    directions->InsertTuples(directions->GetNumberOfTuples(), n, 0, cd->GetArray("SurfelDirection"));
+    for (vtkIdType c = 0; c < n; ++c)
+    {
+      labels->InsertNextValue(static_cast<int>(boxes[l].Label));
+    }
+    this->UpdateProgress(static_cast<double>(l + 1) / boxes.size());
+    if (this->GetAbortExecute())
+    {
+      return this->Abort->Abort(outputVector);
+    }
+  }
+  vtkNew<vtkCellArray> polys;
+  polys->SetData(offsets, connectivity);
+  output->SetPoints(points);
+  output->SetPolys(polys);
+  output->GetCellData()->SetNormals(normals);
+  output->GetCellData()->AddArray(voxels);
+  output->GetCellData()->AddArray(directions);
+  output->GetCellData()->AddArray(labels);
+
+  // The whole image's record, as in the other modes: the estimators check it.
+  vtkNew<vtkIntArray> extArray;
+  extArray->SetName("ImageExtent");
+  extArray->SetNumberOfValues(6);
+  for (int a = 0; a < 6; ++a)
+  {
+    extArray->SetValue(a, whole[a]);
+  }
+  vtkNew<vtkDoubleArray> originArray, spacingArray;
+  originArray->SetName("ImageOrigin");
+  spacingArray->SetName("ImageSpacing");
+  originArray->SetNumberOfValues(3);
+  spacingArray->SetNumberOfValues(3);
+  for (int a = 0; a < 3; ++a)
+  {
+    originArray->SetValue(a, input->GetOrigin()[a]);
+    spacingArray->SetValue(a, input->GetSpacing()[a]);
+  }
+  output->GetFieldData()->AddArray(extArray);
+  output->GetFieldData()->AddArray(originArray);
+  output->GetFieldData()->AddArray(spacingArray);
+  return 1;
+}
+
 void vtkDigitalSurfaceFilter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  const char* modes[] = { "NonZero", "Range", "Label" };
+  const char* modes[] = { "NonZero", "Range", "Label", "EachLabel" };
   os << indent << "SelectionMode: " << modes[this->SelectionMode] << "\n";
   os << indent << "LowerThreshold: " << this->LowerThreshold << "\n";
   os << indent << "UpperThreshold: " << this->UpperThreshold << "\n";
   os << indent << "Label: " << this->Label << "\n";
   os << indent << "SelectedComponent: " << this->SelectedComponent << "\n";
+  os << indent << "Labels: " << (this->Labels ? this->Labels : "(none)") << "\n";
   os << indent << "GenerateGlobalIds: " << (this->GenerateGlobalIds ? "On" : "Off") << "\n";
 }

@@ -2,11 +2,13 @@
 
 #include "dgPipelineAbort.h"
 #include "dgIntegralInvariant.h"
+#include "dgLabelMap.h"
 #include "dgVoxelSelection.h"
 #include "dgPieces.h"
 #include "dgSurfaceEstimator.h"
 #include "vtkDigitalSurfaceFilter.h"
 
+#include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
 #include <vtkDoubleArray.h>
@@ -15,16 +17,19 @@
 #include <vtkImageData.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
+#include <vtkIdTypeArray.h>
 #include <vtkIntArray.h>
 #include <vtkMatrix3x3.h>
 #include <vtkNew.h>
 #include <vtkObjectFactory.h>
+#include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkSMPTools.h>
 #include <vtkStreamingDemandDrivenPipeline.h>
 #include <vtkUnsignedCharArray.h>
 
 #include <algorithm>
+#include <map>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -186,6 +191,21 @@ int vtkIINormalEstimator::ExecutePiece(
     }
   }
 
+  if (this->SelectionMode == EACH_LABEL)
+  {
+    vtkInformation* outInfo = outputVector->GetInformationObject(0);
+    if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES()) &&
+      outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES()) > 1)
+    {
+      vtkErrorMacro("SelectionMode EachLabel runs in one piece only.");
+      return 0;
+    }
+    return this->ExecuteEachLabel(surface, image,
+      dg::SelectionArray(this->GetInputArrayToProcess(0, inputVector),
+        this->GetInputArrayInformation(0), image),
+      on.Voxels.data(), static_cast<int>(std::ceil(radius)) + 1, output, outputVector);
+  }
+
   // 3. Inside voxels as runs along x; the byte mask lives only until then.
   dg::IntegralInvariantKernel kernel;
   if (nSurfels > 0)
@@ -339,10 +359,166 @@ int vtkIINormalEstimator::ExecutePiece(
   return 1;
 }
 
+int vtkIINormalEstimator::ExecuteEachLabel(vtkPolyData* surface, vtkImageData* image,
+  vtkDataArray* scalars, const int* surfelVoxels, int reach, vtkPolyData* output, vtkInformationVector* outputVector)
+{
+  vtkDataArray* labelArray = surface->GetCellData()->GetArray("Label");
+  if (!labelArray || labelArray->GetNumberOfComponents() != 1)
+  {
+    vtkErrorMacro("SelectionMode EachLabel needs the surface's cell array 'Label' (one "
+                  "component), as vtkDigitalSurfaceFilter writes it in EachLabel mode.");
+    return 0;
+  }
+  if (!scalars)
+  {
+    vtkErrorMacro("Cannot select voxels: the image has no point scalars to read labels from.");
+    return 0;
+  }
+  const int nc = scalars->GetNumberOfComponents();
+  const int component = this->SelectedComponent < 0 && nc == 1 ? 0 : this->SelectedComponent;
+  if (component < 0 || component >= nc)
+  {
+    vtkErrorMacro("Cannot select voxels: array has " << nc << " components, SelectedComponent is "
+      << this->SelectedComponent << ".");
+    return 0;
+  }
+  const vtkIdType nSurfels = surface->GetNumberOfCells();
+  std::map<double, std::vector<vtkIdType>> cellsOf;
+  for (vtkIdType c = 0; c < nSurfels; ++c)
+  {
+    cellsOf[labelArray->GetTuple1(c)].push_back(c);
+  }
+  vtkDataArray* voxelArray = surface->GetCellData()->GetArray("InsideVoxel");
+  vtkDataArray* directionArray = surface->GetCellData()->GetArray("SurfelDirection");
+  vtkNew<vtkIdTypeArray> legacy;
+  surface->GetPolys()->ExportLegacyFormat(legacy);
+  const bool quadsOnly = surface->GetNumberOfCells() == surface->GetNumberOfPolys() &&
+    legacy->GetNumberOfValues() == 5 * nSurfels;
+  if (!quadsOnly)
+  {
+    vtkErrorMacro("SelectionMode EachLabel reads a surface of quads only, as "
+                  "vtkDigitalSurfaceFilter makes it.");
+    return 0;
+  }
+  // The estimates of all labels, in the surface's cell order.
+  std::vector<vtkSmartPointer<vtkDataArray>> results;
+  this->NumberOfTrivialFallbacks = 0;
+  std::size_t done = 0;
+  for (const auto& entry : cellsOf)
+  {
+    const std::vector<vtkIdType>& cells = entry.second;
+    // The label's voxel box: its extreme voxels all carry a surfel.
+    int box[6] = { VTK_INT_MAX, VTK_INT_MIN, VTK_INT_MAX, VTK_INT_MIN, VTK_INT_MAX, VTK_INT_MIN };
+    for (vtkIdType c : cells)
+    {
+      for (int a = 0; a < 3; ++a)
+      {
+        box[2 * a] = std::min(box[2 * a], surfelVoxels[3 * c + a]);
+        box[2 * a + 1] = std::max(box[2 * a + 1], surfelVoxels[3 * c + a]);
+      }
+    }
+    auto crop = dg::CropImage(image, box, reach, scalars, component);
+    // The label's cells on the shared points, recorded as made from the crop.
+    vtkNew<vtkPolyData> part;
+    part->SetPoints(surface->GetPoints());
+    vtkNew<vtkCellArray> polys;
+    vtkNew<vtkIntArray> voxels;
+    voxels->SetName("InsideVoxel");
+    voxels->SetNumberOfComponents(3);
+    vtkNew<vtkUnsignedCharArray> directions;
+    directions->SetName("SurfelDirection");
+    for (vtkIdType c : cells)
+    {
+      const vtkIdType quad[4] = { legacy->GetValue(5 * c + 1), legacy->GetValue(5 * c + 2),
+        legacy->GetValue(5 * c + 3), legacy->GetValue(5 * c + 4) };
+      polys->InsertNextCell(4, quad);
+      voxels->InsertNextTuple(voxelArray->GetTuple3(c));
+      directions->InsertNextValue(static_cast<unsigned char>(directionArray->GetTuple1(c)));
+    }
+    part->SetPolys(polys);
+    part->GetCellData()->AddArray(voxels);
+    part->GetCellData()->AddArray(directions);
+    vtkNew<vtkIntArray> cropExtent;
+    cropExtent->SetName("ImageExtent");
+    cropExtent->SetNumberOfValues(6);
+    for (int a = 0; a < 6; ++a)
+    {
+      cropExtent->SetValue(a, crop->GetExtent()[a]);
+    }
+    part->GetFieldData()->AddArray(cropExtent);
+    part->GetFieldData()->AddArray(surface->GetFieldData()->GetArray("ImageOrigin"));
+    part->GetFieldData()->AddArray(surface->GetFieldData()->GetArray("ImageSpacing"));
+
+    vtkNew<vtkIINormalEstimator> one;
+    one->SetInputData(part);
+    one->SetSourceData(crop);
+    one->SetRadius(this->Radius);
+    one->SetRadiusUnits(this->RadiusUnits);
+    one->SetComputeCurvatures(this->ComputeCurvatures);
+    one->SetCurvatureReference(this->CurvatureReference);
+    one->SetSelectionModeToLabel();
+    one->SetLabel(entry.first);
+    one->Update();
+    vtkCellData* cd = one->GetOutput()->GetCellData();
+    if (one->GetOutput()->GetNumberOfCells() != static_cast<vtkIdType>(cells.size()) || !cd->GetNormals())
+    {
+      vtkErrorMacro("EachLabel: the estimate of label " << entry.first << " failed (see above).");
+      return 0;
+    }
+    this->NumberOfTrivialFallbacks += one->GetNumberOfTrivialFallbacks();
+    std::vector<vtkDataArray*> arrays{ cd->GetNormals() };
+    if (this->ComputeCurvatures)
+    {
+      for (const char* name :
+        { "IIMeanCurvature", "IIGaussianCurvature", "IIK1", "IIK2", "IIK1Direction", "IIK2Direction" })
+      {
+        arrays.push_back(cd->GetArray(name));
+      }
+    }
+    if (results.empty())
+    {
+      for (vtkDataArray* a : arrays)
+      {
+        vtkSmartPointer<vtkDataArray> r = vtk::TakeSmartPointer(a->NewInstance());
+        r->SetName(a->GetName());
+        r->SetNumberOfComponents(a->GetNumberOfComponents());
+        r->SetNumberOfTuples(nSurfels);
+        results.push_back(r);
+      }
+    }
+    for (std::size_t a = 0; a < arrays.size(); ++a)
+    {
+      for (std::size_t i = 0; i < cells.size(); ++i)
+      {
+        results[a]->SetTuple(cells[i], static_cast<vtkIdType>(i), arrays[a]);
+      }
+    }
+    this->UpdateProgress(static_cast<double>(++done) / cellsOf.size());
+    if (this->GetAbortExecute())
+    {
+      return this->Abort->Abort(outputVector);
+    }
+  }
+  output->ShallowCopy(surface);
+  output->GetCellData()->SetActiveAttribute(-1, vtkDataSetAttributes::NORMALS);
+  for (std::size_t a = 0; a < results.size(); ++a)
+  {
+    if (a == 0)
+    {
+      output->GetCellData()->SetNormals(results[a]);
+    }
+    else
+    {
+      output->GetCellData()->AddArray(results[a]);
+    }
+  }
+  return 1;
+}
+
 void vtkIINormalEstimator::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  const char* modes[] = { "NonZero", "Range", "Label" };
+  const char* modes[] = { "NonZero", "Range", "Label", "EachLabel" };
   os << indent << "Radius: " << this->Radius << "\n";
   os << indent << "RadiusUnits: " << (this->RadiusUnits == WORLD ? "World" : "Voxels") << "\n";
   os << indent << "ComputeCurvatures: " << (this->ComputeCurvatures ? "On" : "Off") << "\n";

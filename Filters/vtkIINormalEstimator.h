@@ -16,6 +16,16 @@
  * match. A surfel whose inside voxel is not selected here means the two
  * selections differ: that is an error.
  *
+ * EachLabel (label maps, docs/labels.md): the surface made by
+ * vtkDigitalSurfaceFilter in EachLabel mode carries the cell data "Label";
+ * the cells of each label are estimated with that label's voxels only
+ * (value == label), on a copy of the image around the label's surfels (its
+ * voxel box) grown by the ball's reach ceil(r) + 1 (dg::CropImage): each
+ * ball sees the voxels it sees in the whole image, so the normals and
+ * curvatures are bitwise those of a Label-mode run on the whole image, for
+ * the cost of the label's box rather than a full-volume pass per label.
+ * A missing "Label" array is an error; one piece only.
+ *
  * Method (MATH.md section 6): for every surfel with centre c (inside voxel +
  * half a voxel along its direction, grid units) the covariance matrix C of
  * the inside voxel centres in the ball |p - c| <= r. The normal is the
@@ -82,7 +92,9 @@ class PipelineAbort;
 }
 
 class vtkAlgorithmOutput;
+class vtkDataArray;
 class vtkDataObject;
+class vtkImageData;
 
 class VTKDIGITALGEOMETRY_EXPORT vtkIINormalEstimator : public vtkPolyDataAlgorithm
 {
@@ -163,18 +175,22 @@ public:
   {
     NON_ZERO = 0,
     RANGE = 1,
-    LABEL = 2
+    LABEL = 2,
+    EACH_LABEL = 3
   };
 
   ///@{
   /**
    * Selection of the inside voxels: set it as on vtkDigitalSurfaceFilter.
+   * EACH_LABEL reads the surface's "Label" cell array (see the class
+   * description); the labels are the surface's, there is no Labels list.
    */
-  vtkSetClampMacro(SelectionMode, int, NON_ZERO, LABEL);
+  vtkSetClampMacro(SelectionMode, int, NON_ZERO, EACH_LABEL);
   vtkGetMacro(SelectionMode, int);
   void SetSelectionModeToNonZero() { this->SetSelectionMode(NON_ZERO); }
   void SetSelectionModeToRange() { this->SetSelectionMode(RANGE); }
   void SetSelectionModeToLabel() { this->SetSelectionMode(LABEL); }
+  void SetSelectionModeToEachLabel() { this->SetSelectionMode(EACH_LABEL); }
   vtkSetMacro(LowerThreshold, double);
   vtkGetMacro(LowerThreshold, double);
   vtkSetMacro(UpperThreshold, double);
@@ -207,6 +223,9 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   // RequestData of this piece alone (RequestData adds the pieces' agreement).
   int ExecutePiece(vtkInformation*, vtkInformationVector**, vtkInformationVector*);
+  // EACH_LABEL: every label's cells with that label's voxels, on its box.
+  int ExecuteEachLabel(vtkPolyData* surface, vtkImageData* image, vtkDataArray* scalars,
+    const int* surfelVoxels, int reach, vtkPolyData* output, vtkInformationVector* outputVector);
 
   double Radius = 3.0;
   int RadiusUnits = VOXELS;

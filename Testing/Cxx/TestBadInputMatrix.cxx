@@ -16,6 +16,7 @@
 #include "vtkDigitalSurfaceFilter.h"
 #include "vtkIINormalEstimator.h"
 #include "vtkNIfTIVolumeReader.h"
+#include "vtkSplitByLabelFilter.h"
 #include "vtkVCMNormalEstimator.h"
 
 #include <vtkCellArray.h>
@@ -24,6 +25,8 @@
 #include <vtkExecutive.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
+#include <vtkPartitionedDataSet.h>
+#include <vtkPartitionedDataSetCollection.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
@@ -107,6 +110,17 @@ Outcome Run(vtkAlgorithm* algorithm)
   {
     o.Cells = im->GetNumberOfPoints();
   }
+  else if (auto* pdc = vtkPartitionedDataSetCollection::SafeDownCast(algorithm->GetOutputDataObject(0)))
+  {
+    for (unsigned int b = 0; b < pdc->GetNumberOfPartitionedDataSets(); ++b)
+    {
+      for (unsigned int p = 0; p < pdc->GetNumberOfPartitions(b); ++p)
+      {
+        auto* part = vtkPolyData::SafeDownCast(pdc->GetPartition(b, p));
+        o.Cells += part ? part->GetNumberOfCells() : 0;
+      }
+    }
+  }
   return o;
 }
 
@@ -128,6 +142,26 @@ Outcome Surface(vtkImageData* image, const std::function<void(vtkDigitalSurfaceF
   }
   f->SetInputData(image);
   return Run(f);
+}
+
+// Two touching boxes of labels 3 (5 x 9 x 9 voxels) and 7 (4 x 7 x 7).
+vtkSmartPointer<vtkImageData> TwoLabels()
+{
+  return dgtest::MakeImage(12, 12, 12, [](int i, int j, int k) {
+    if (i >= 1 && i <= 5 && j >= 1 && j <= 9 && k >= 1 && k <= 9)
+      return 3.0;
+    if (i >= 6 && i <= 9 && j >= 2 && j <= 8 && k >= 2 && k <= 8)
+      return 7.0;
+    return 0.0;
+  });
+}
+
+Outcome EachLabel(vtkImageData* image, const char* labels)
+{
+  return Surface(image, [labels](vtkDigitalSurfaceFilter* f) {
+    f->SetSelectionModeToEachLabel();
+    f->SetLabels(labels);
+  });
 }
 
 Outcome Island(vtkImageData* image, const std::function<void(vtkDigitalIslandFilter*)>& set = {})
@@ -425,6 +459,40 @@ const Row Rows[] = {
           f->SetSelectionModeToLabel();
           f->SetLabel(17);
         });
+    } },
+  // Label maps, EachLabel mode and the split filter (issue 18)
+  { "EachLabelEmptyList", Expect::Error, "no label given", [] { return EachLabel(TwoLabels(), ""); } },
+  { "EachLabelAbsentLabels", Expect::Error, "holds 2 non-zero labels: 3, 7",
+    [] { return EachLabel(TwoLabels(), "42,50-60"); } },
+  { "EachLabelBadList", Expect::Error, "'3-x'", [] { return EachLabel(TwoLabels(), "3-x"); } },
+  { "EachLabelNotLabelMap", Expect::Error, "not an integer",
+    [] { return EachLabel(dgtest::MakeImage(6, 6, 6, [](int i, int, int) { return 0.5 * i; }, VTK_FLOAT), "all"); } },
+  { "EachLabelGood", Expect::Result, "",
+    []
+    {
+      Outcome o = EachLabel(TwoLabels(), "all");
+      // Each box's own closed surface: the shared faces twice.
+      o.ExpectedCells = 2 * (5 * 9 + 5 * 9 + 9 * 9) + 2 * (4 * 7 + 4 * 7 + 7 * 7);
+      return o;
+    } },
+  { "IIEachLabelNoLabelArray", Expect::Error, "'Label'",
+    []
+    {
+      auto image = TwoLabels();
+      vtkNew<vtkDigitalSurfaceFilter> surface;
+      surface->SetInputData(image);
+      vtkNew<vtkIINormalEstimator> ii;
+      ii->SetInputConnection(surface->GetOutputPort());
+      ii->SetSourceData(image);
+      ii->SetSelectionModeToEachLabel();
+      return Run(ii);
+    } },
+  { "SplitNoLabelArray", Expect::Error, "'Label'",
+    []
+    {
+      vtkNew<vtkSplitByLabelFilter> split;
+      split->SetInputData(CubeSurface());
+      return Run(split);
     } },
   // vtkDigitalIslandFilter
   { "IslandEmptyImage",
