@@ -204,6 +204,122 @@ std::string ReadHeaderGeometry(const std::string& path, bool nrrd, bool ras, Hea
   return "";
 }
 
+std::string CheckMetaImageDataSize(const std::string& path)
+{
+  const auto fields = HeaderFields(path, '=');
+  auto field = [&](const char* key) -> std::string
+  {
+    for (const auto& f : fields)
+      if (f.first == key)
+        return f.second;
+    return "";
+  };
+  if (Lower(field("compresseddata")) == "true")
+    return "";
+  const auto dims = ParseNumbers(field("dimsize"));
+  if (dims.empty())
+    return "";
+  const std::string type = Lower(field("elementtype"));
+  static const std::pair<const char*, int> sizes[] = { { "met_uchar", 1 },
+    { "met_char", 1 },
+    { "met_ushort", 2 },
+    { "met_short", 2 },
+    { "met_uint", 4 },
+    { "met_int", 4 },
+    { "met_float", 4 },
+    { "met_double", 8 },
+    { "met_ulong", 8 },
+    { "met_long", 8 },
+    { "met_ulong_long", 8 },
+    { "met_long_long", 8 } };
+  int bytes = 0;
+  for (const auto& s : sizes)
+    if (type == s.first)
+      bytes = s.second;
+  if (bytes == 0)
+    return ""; // a type VTK's reader will judge
+  double expected = bytes;
+  for (double d : dims)
+    expected *= d;
+  const auto channels = ParseNumbers(field("elementnumberofchannels"));
+  if (!channels.empty())
+    expected *= channels[0];
+  const std::string data = field("elementdatafile");
+  std::uintmax_t available = 0;
+  if (Lower(data) == "local")
+  {
+    // The data follow the ElementDataFile line.
+    std::ifstream in(path, std::ios::binary);
+    std::string line;
+    while (std::getline(in, line))
+    {
+      std::string key = line.substr(0, line.find('='));
+      key.erase(
+        std::remove_if(key.begin(), key.end(), [](unsigned char ch) { return std::isspace(ch); }),
+        key.end());
+      if (Lower(key) == "elementdatafile")
+        break;
+    }
+    const std::streamoff start = in.tellg();
+    in.seekg(0, std::ios::end);
+    const std::streamoff end = in.tellg();
+    available = start >= 0 && end >= start ? static_cast<std::uintmax_t>(end - start) : 0;
+  }
+  else if (!data.empty() && data.find('%') == std::string::npos && data.rfind("LIST", 0) != 0)
+  {
+    const auto slash = path.find_last_of('/');
+    const std::string file =
+      data.front() == '/' || slash == std::string::npos ? data : path.substr(0, slash + 1) + data;
+    std::ifstream in(file, std::ios::binary | std::ios::ate);
+    if (!in)
+      return "its ElementDataFile '" + data + "' cannot be opened";
+    available = static_cast<std::uintmax_t>(in.tellg());
+  }
+  else
+  {
+    return ""; // a file list or pattern: VTK's reader reads it
+  }
+  if (static_cast<double>(available) < expected)
+  {
+    return "the voxel data is shorter than its header says (" + std::to_string(available) + " of " +
+           Fmt(expected) + " bytes: truncated)";
+  }
+  return "";
+}
+
+bool NrrdHasThreeSpatialAxes(const std::string& path, int sizes[3])
+{
+  const auto fields = HeaderFields(path, ':');
+  auto field = [&](const char* key) -> const std::string*
+  {
+    for (const auto& f : fields)
+      if (f.first == key)
+        return &f.second;
+    return nullptr;
+  };
+  const std::string* dimension = field("dimension");
+  const std::string* s = field("sizes");
+  if (!dimension || !s || ParseNumbers(*dimension) != std::vector<double>{ 3 })
+    return false;
+  const auto v = ParseNumbers(*s);
+  if (v.size() != 3)
+    return false;
+  if (const std::string* kinds = field("kinds"))
+  {
+    std::istringstream in(Lower(*kinds));
+    std::string kind;
+    while (in >> kind)
+      if (kind != "domain" && kind != "space" && kind != "time" && kind != "???" && kind != "none")
+        return false;
+  }
+  if (const std::string* dirs = field("space directions"))
+    if (Lower(*dirs).find("none") != std::string::npos)
+      return false;
+  for (int a = 0; a < 3; ++a)
+    sizes[a] = static_cast<int>(v[a]);
+  return true;
+}
+
 std::vector<double> ParseNumbers(const std::string& text)
 {
   std::vector<double> out;

@@ -29,6 +29,18 @@ struct HeaderGeometry
 /// grid, or a MetaImage that is not 3-D): VTK's reader's geometry stands.
 std::string ReadHeaderGeometry(const std::string& path, bool nrrd, bool ras, HeaderGeometry& g);
 
+/// MetaImage: empty when the uncompressed voxel data (LOCAL, after the
+/// header, or in the ElementDataFile next to it) holds at least what
+/// DimSize, ElementType and ElementNumberOfChannels say, else the problem.
+/// VTK's vtkMetaImageReader returns a short read as a full volume without a
+/// word. Compressed data (CompressedData = True) is not checked here.
+std::string CheckMetaImageDataSize(const std::string& path);
+
+/// NRRD: true when the header has three spatial axes (dimension 3, no
+/// non-spatial kind such as "vector" and no "none" space direction): VTK's
+/// vtkNrrdReader takes a first axis shorter than 10 for components.
+bool NrrdHasThreeSpatialAxes(const std::string& path, int sizes[3]);
+
 /// The numbers of a header value, separated by blanks, commas, parentheses
 /// (NRRD's "(1,0,0)") or backslashes (DICOM's "1.5\\-2\\3"); what does not
 /// parse ends the list.

@@ -165,6 +165,15 @@ int vtkOrientedImageReader::RequestInformation(vtkInformation*,
     vtkErrorMacro(<< this->FileName << ": " << why);
     return 0;
   }
+  if (format == Format::MetaImage)
+  {
+    const std::string shortData = dg::CheckMetaImageDataSize(this->FileName);
+    if (!shortData.empty())
+    {
+      vtkErrorMacro(<< this->FileName << ": " << shortData);
+      return 0;
+    }
+  }
   inner->SetFileName(this->FileName);
   vtkNew<ReportCapture> capture;
   capture->Start(inner);
@@ -179,6 +188,35 @@ int vtkOrientedImageReader::RequestInformation(vtkInformation*,
   vtkInformation* out = outputVector->GetInformationObject(0);
   int whole[6];
   in->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
+  int components = 1;
+  if (vtkInformation* scalar = vtkDataObject::GetActiveFieldInformation(
+        in, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS))
+  {
+    components = scalar->Get(vtkDataObject::FIELD_NUMBER_OF_COMPONENTS());
+  }
+  int sizes[3];
+  this->FirstAxisAsComponents = format == Format::Nrrd &&
+                                dg::NrrdHasThreeSpatialAxes(this->FileName, sizes) &&
+                                components == sizes[0] && whole[1] - whole[0] + 1 == sizes[1] &&
+                                whole[3] - whole[2] + 1 == sizes[2] && whole[5] == whole[4];
+  if (this->FirstAxisAsComponents)
+  {
+    const int grid[6] = { 0, sizes[0] - 1, 0, sizes[1] - 1, 0, sizes[2] - 1 };
+    std::copy(grid, grid + 6, whole);
+    components = 1;
+    if (!g.Has)
+    {
+      // VTK's reader put the first axis's spacing on the second, and so on.
+      double o[3] = { 0, 0, 0 }, s[3] = { 1, 1, 1 };
+      in->Get(vtkDataObject::ORIGIN(), o);
+      in->Get(vtkDataObject::SPACING(), s);
+      vtkErrorMacro(<< this->FileName
+                    << ": a 3-D NRRD whose first axis is shorter than 10 voxels needs space "
+                       "directions (VTK's reader loses its spacing otherwise)");
+      return 0;
+    }
+  }
+  std::copy(whole, whole + 6, this->Whole);
   if (g.Has)
   {
     std::copy(g.Origin, g.Origin + 3, this->Origin);
@@ -201,9 +239,8 @@ int vtkOrientedImageReader::RequestInformation(vtkInformation*,
   if (vtkInformation* scalar = vtkDataObject::GetActiveFieldInformation(
         in, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS))
   {
-    vtkDataObject::SetPointDataActiveScalarInfo(out,
-      scalar->Get(vtkDataObject::FIELD_ARRAY_TYPE()),
-      scalar->Get(vtkDataObject::FIELD_NUMBER_OF_COMPONENTS()));
+    vtkDataObject::SetPointDataActiveScalarInfo(
+      out, scalar->Get(vtkDataObject::FIELD_ARRAY_TYPE()), components);
   }
   this->Inner = inner;
   return 1;
@@ -231,13 +268,18 @@ int vtkOrientedImageReader::RequestData(vtkInformation*,
   // vtkNrrdReader reads a sub-extent; vtkMetaImageReader does not (it
   // writes the whole volume into a buffer of the requested extent's size:
   // heap corruption), so it reads the whole volume and the box is copied out.
-  int whole[6], read[6];
+  // vtkNrrdReader reads a sub-extent; vtkMetaImageReader does not (it
+  // writes the whole volume into a buffer of the requested extent's size:
+  // heap corruption), so it reads the whole volume and the box is copied
+  // out; so does a NRRD whose first axis VTK reads as components.
+  int innerWhole[6], read[6];
   this->Inner->GetOutputInformation(0)->Get(
-    vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
+    vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), innerWhole);
   const bool subExtents =
+    !this->FirstAxisAsComponents &&
     this->Inner->GetOutputInformation(0)->Get(vtkAlgorithm::CAN_PRODUCE_SUB_EXTENT()) == 1;
-  std::copy(subExtents ? ext : whole, (subExtents ? ext : whole) + 6, read);
-  if (!dg::ExtentContains(whole, ext))
+  std::copy(subExtents ? ext : innerWhole, (subExtents ? ext : innerWhole) + 6, read);
+  if (!dg::ExtentContains(this->Whole, ext))
   {
     vtkErrorMacro(<< this->FileName
                   << ": requested extent outside the file's extent (the file changed?)");
@@ -247,27 +289,42 @@ int vtkOrientedImageReader::RequestData(vtkInformation*,
   capture->Start(this->Inner);
   this->Inner->UpdateExtent(read);
   const std::string problem = capture->Stop();
-  vtkImageData* image = this->Inner->GetOutput();
-  vtkDataArray* scalars = image ? image->GetPointData()->GetScalars() : nullptr;
-  int got[6] = { 0, -1, 0, -1, 0, -1 };
-  if (image)
-    image->GetExtent(got);
-  if (problem.empty() && (!scalars || !dg::ExtentContains(got, ext) ||
-                           scalars->GetNumberOfTuples() != image->GetNumberOfPoints()))
-  {
-    vtkErrorMacro(<< this->FileName << ": no voxel data (truncated or corrupt file?)");
-    return 0;
-  }
+  vtkSmartPointer<vtkImageData> image = this->Inner->GetOutput();
   if (!problem.empty())
   {
     vtkErrorMacro(<< this->FileName << ": " << problem);
+    return 0;
+  }
+  vtkDataArray* scalars = image ? image->GetPointData()->GetScalars() : nullptr;
+  if (this->FirstAxisAsComponents && scalars &&
+      static_cast<vtkIdType>(scalars->GetNumberOfComponents()) == this->Whole[1] + 1)
+  {
+    // Components fastest, then the 2-D image's x and y: the 3-D grid's
+    // voxel order. The same array, one component.
+    vtkSmartPointer<vtkDataArray> folded = vtk::TakeSmartPointer(scalars->NewInstance());
+    folded->ShallowCopy(scalars);
+    folded->SetNumberOfComponents(1);
+    folded->SetNumberOfTuples(scalars->GetNumberOfValues());
+    auto grid = vtkSmartPointer<vtkImageData>::New();
+    grid->SetExtent(this->Whole);
+    grid->GetPointData()->SetScalars(folded);
+    image = grid;
+    scalars = folded;
+  }
+  int got[6] = { 0, -1, 0, -1, 0, -1 };
+  if (image)
+    image->GetExtent(got);
+  if (!scalars || !dg::ExtentContains(got, ext) ||
+      scalars->GetNumberOfTuples() != image->GetNumberOfPoints())
+  {
+    vtkErrorMacro(<< this->FileName << ": no voxel data (truncated or corrupt file?)");
     return 0;
   }
   dg::CropImageToExtent(image, ext, output);
   if (!subExtents)
   {
     // The whole volume is not kept between executions.
-    image->ReleaseData();
+    this->Inner->GetOutput()->ReleaseData();
   }
   output->SetOrigin(this->Origin);
   output->SetSpacing(this->Spacing);

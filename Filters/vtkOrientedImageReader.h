@@ -24,7 +24,12 @@
  * - Coordinates: LPS (DICOM's and ITK's) by default, RAS with
  *   CoordinateSystem RAS (x and y negated).
  *
- * The format is chosen by the file name's extension. A short read
+ * The format is chosen by the file name's extension. Two flaws of VTK's
+ * readers are handled: vtkMetaImageReader returns uncompressed data shorter
+ * than its header says as a whole volume without a word (checked against
+ * the file's size here: an error), and vtkNrrdReader takes the first axis
+ * of a 3-D NRRD for components when it is shorter than 10 voxels (the
+ * array is re-read as one component on the 3-D grid). A short read
  * (truncated raw data), which VTK's image readers report only as a warning
  * on the global output window, is an error here with an empty output: the
  * window is captured for the duration of the read.
@@ -100,6 +105,11 @@ private:
   double Origin[3] = { 0, 0, 0 };
   double Spacing[3] = { 1, 1, 1 };
   double Direction[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
+  // vtkNrrdReader reads a 3-D NRRD whose first axis is shorter than 10 as a
+  // 2-D image with that many components: the voxels are in the right order,
+  // so the array is re-read as one component on the 3-D extent.
+  bool FirstAxisAsComponents = false;
+  int Whole[6] = { 0, -1, 0, -1, 0, -1 };
   // VTK's reader of the last RequestInformation (MetaImage or NRRD).
   vtkSmartPointer<vtkImageReader2> Inner;
 

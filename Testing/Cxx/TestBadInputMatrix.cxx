@@ -16,6 +16,7 @@
 #include "vtkDigitalSurfaceFilter.h"
 #include "vtkIINormalEstimator.h"
 #include "vtkNIfTIVolumeReader.h"
+#include "vtkOrientedImageReader.h"
 #include "vtkSplitByLabelFilter.h"
 #include "vtkVCMNormalEstimator.h"
 
@@ -387,6 +388,37 @@ NIfTIHeader WithSForm(const double rows[3][4])
   NIfTIHeader h = GoodNIfTI();
   h.SForm(rows);
   return h;
+}
+
+// A MetaImage or NRRD file (uint8, 5 x 6 x 7) with the given header text
+// and `voxels` bytes of data, read by vtkOrientedImageReader.
+Outcome ReadOrientedBytes(const std::string& name, const std::string& header, std::size_t voxels = 5 * 6 * 7)
+{
+  const std::string path = dgtest::TempPath("matrix_" + name);
+  std::ofstream f(path, std::ios::binary);
+  f << header;
+  for (std::size_t v = 0; v < voxels; ++v)
+    f.put(static_cast<char>(v % 3));
+  f.close();
+  vtkNew<vtkOrientedImageReader> reader;
+  reader->SetFileName(path.c_str());
+  return Run(reader);
+}
+
+std::string MetaImageHeader(const std::string& transform)
+{
+  return "ObjectType = Image\nNDims = 3\nBinaryData = True\nBinaryDataByteOrderMSB = False\n"
+         "TransformMatrix = " +
+    transform +
+    "\nOffset = 1 2 3\nElementSpacing = 0.7 0.7 2.5\nDimSize = 5 6 7\nElementType = "
+    "MET_UCHAR\nElementDataFile = LOCAL\n";
+}
+
+std::string NrrdHeader(const std::string& space, const std::string& directions)
+{
+  return "NRRD0004\ntype: uint8\ndimension: 3\nspace: " + space +
+    "\nsizes: 5 6 7\nspace directions: " + directions +
+    "\nendian: little\nencoding: raw\nspace origin: (1,2,3)\n\n";
 }
 
 const Row Rows[] = {
@@ -836,6 +868,59 @@ const Row Rows[] = {
     []
     {
       Outcome o = ReadNIfTIBytes("good", GoodNIfTI());
+      o.ExpectedCells = 5 * 6 * 7;
+      return o;
+    } },
+  // vtkOrientedImageReader (MetaImage, NRRD): geometry it cannot carry is
+  // refused, never straightened; short data is an error, not a warning.
+  { "OrientedShearedTransformMatrix",
+    Expect::Error,
+    "sheared",
+    [] { return ReadOrientedBytes("sheared.mha", MetaImageHeader("1 0 0 0.5 1 0 0 0 1")); } },
+  { "OrientedTransformMatrixNotNineNumbers",
+    Expect::Error,
+    "not nine numbers",
+    [] { return ReadOrientedBytes("eight.mha", MetaImageHeader("1 0 0 0 1 0 0 0")); } },
+  { "OrientedNrrdUnknownSpace",
+    Expect::Error,
+    "not a patient space",
+    [] { return ReadOrientedBytes("space.nrrd", NrrdHeader("scanner-xyz", "(1,0,0) (0,1,0) (0,0,1)")); } },
+  { "OrientedNrrdDegenerateDirection",
+    Expect::Error,
+    "no length",
+    [] { return ReadOrientedBytes("zero.nrrd", NrrdHeader("left-posterior-superior", "(1,0,0) (0,0,0) (0,0,1)")); } },
+  { "OrientedNrrdTruncatedData",
+    Expect::Error,
+    "",
+    []
+    {
+      return ReadOrientedBytes(
+        "short.nrrd", NrrdHeader("left-posterior-superior", "(1,0,0) (0,1,0) (0,0,1)"), 100);
+    } },
+  { "OrientedMetaImageTruncatedData",
+    Expect::Error,
+    "",
+    [] { return ReadOrientedBytes("short.mha", MetaImageHeader("1 0 0 0 1 0 0 0 1"), 100); } },
+  { "OrientedNotAnImageName",
+    Expect::Error,
+    "not a MetaImage",
+    [] { return ReadOrientedBytes("image.raw", MetaImageHeader("1 0 0 0 1 0 0 0 1")); } },
+  { "OrientedGoodMetaImage",
+    Expect::Result,
+    "",
+    []
+    {
+      Outcome o = ReadOrientedBytes("good.mha", MetaImageHeader("0 1 0 -1 0 0 0 0 1"));
+      o.ExpectedCells = 5 * 6 * 7;
+      return o;
+    } },
+  { "OrientedGoodNrrd",
+    Expect::Result,
+    "",
+    []
+    {
+      Outcome o = ReadOrientedBytes(
+        "good.nrrd", NrrdHeader("right-anterior-superior", "(0,0.7,0) (-0.7,0,0) (0,0,2.5)"));
       o.ExpectedCells = 5 * 6 * 7;
       return o;
     } },

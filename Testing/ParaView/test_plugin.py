@@ -248,6 +248,37 @@ if nib is not None:
         Delete(nsurface)
         Delete(nreader)
 
+# An oblique MetaImage: the plugin's Oriented MetaImage/NRRD Reader puts the
+# TransformMatrix on the image (ParaView's own reader drops it).
+if nib is not None:
+    R = np.array([[np.cos(0.4), -np.sin(0.4), 0], [np.sin(0.4), np.cos(0.4), 0], [0, 0, 1]])
+    R[:, 2] *= -1  # det -1
+    spacing, origin = np.array([0.8, 0.9, 1.5]), np.array([3.0, -4.0, 5.0])
+    vox = np.zeros((8, 10, 12), np.uint8)  # [k, j, i]
+    vox[2:6, 2:8, 3:9] = 1
+    mha = os.path.join(TMP, "oblique.mha")
+    with open(mha, "wb") as f:
+        f.write(("ObjectType = Image\nNDims = 3\nBinaryData = True\nBinaryDataByteOrderMSB = False\n"
+                 "TransformMatrix = %s\nOffset = %s\nElementSpacing = %s\nDimSize = 12 10 8\n"
+                 "ElementType = MET_UCHAR\nElementDataFile = LOCAL\n" % (
+                     " ".join("%.17g" % v for v in R.T.flatten()), " ".join("%.17g" % v for v in origin),
+                     " ".join("%.17g" % v for v in spacing))).encode() + vox.tobytes())
+    mreader = OrientedMetaImageNRRDReader(FileName=mha)
+    mimage = servermanager.Fetch(mreader)
+    d = np.array([[mimage.GetDirectionMatrix().GetElement(i, j) for j in range(3)] for i in range(3)])
+    check(np.allclose(d, R, atol=1e-12) and np.allclose(mimage.GetSpacing(), spacing)
+          and np.allclose(mimage.GetOrigin(), origin),
+          "Oriented MetaImage/NRRD Reader: the TransformMatrix, spacing and offset on the image")
+    msurface = DigitalSurface(Input=mreader)
+    msurface.UpdatePipeline()
+    mpd = servermanager.Fetch(msurface)
+    pts = np.array([mpd.GetPoint(i) for i in range(mpd.GetNumberOfPoints())])
+    idx = (pts - origin) @ R / spacing  # world -> continuous index (R orthonormal)
+    check(mpd.GetNumberOfPolys() == 2 * (24 + 24 + 36) and np.abs(idx - (np.round(idx + 0.5) - 0.5)).max() < 1e-9,
+          "Digital Surface on it: the block's quads at the world positions of the voxel corners")
+    Delete(msurface)
+    Delete(mreader)
+
 # Sharp Features after AT (back on the default solver): the same lines and
 # normals as the class on the C++ pipeline, fewer lines than AT's band.
 at.LinearSolver = "Conjugate gradients, incomplete Cholesky"

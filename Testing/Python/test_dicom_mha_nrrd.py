@@ -341,6 +341,36 @@ for det in (1, -1):
               and np.allclose(sub.GetPoint(0), full.GetOutput().GetPoint(full.GetOutput().ComputePointId([3, 2, 4]))),
               "vtkOrientedImageReader, %s det %+d: a sub-extent has the box's voxels at their world positions" % (what, det))
 
+# A 3-D NRRD whose first axis is shorter than 10 voxels: VTK's vtkNrrdReader
+# reads it as a 2-D image of that many components; the module's reader gives
+# the 3-D grid, voxel for voxel, and refuses it without space directions.
+small = (np.arange(7 * 6 * 5) % 7).astype(np.uint8).reshape(7, 6, 5)  # [k, j, i], 5 x 6 x 7
+R = rotation(-1)
+for sub in (None, (1, 3, 0, 5, 2, 6)):
+    path = os.path.join(ROOT, "thin.nrrd")
+    with open(path, "wb") as f:
+        f.write(("NRRD0004\ntype: uint8\ndimension: 3\nspace: left-posterior-superior\nsizes: 5 6 7\n"
+                 "space directions: %s\nkinds: domain domain domain\nendian: little\nencoding: raw\n"
+                 "space origin: (%s)\n\n" % (
+                     " ".join("(%s)" % ",".join("%.17g" % v for v in (R * SPACING)[:, a]) for a in range(3)),
+                     ",".join("%.17g" % v for v in ORIGIN))).encode() + small.tobytes())
+    r = vtkOrientedImageReader()
+    r.SetFileName(path)
+    if sub:
+        r.UpdateExtent(sub)
+    else:
+        r.Update()
+    im = r.GetOutput()
+    e = sub or (0, 4, 0, 5, 0, 6)
+    got = vtk_to_numpy(im.GetPointData().GetScalars()) if im.GetPointData().GetScalars() else np.zeros(0)
+    want = small[e[4]:e[5] + 1, e[2]:e[3] + 1, e[0]:e[1] + 1].ravel()
+    corner = np.array(im.GetPoint(0)) if im.GetNumberOfPoints() else None
+    check(tuple(im.GetExtent()) == tuple(e) and im.GetPointData().GetScalars().GetNumberOfComponents() == 1
+          and np.array_equal(got, want)
+          and np.allclose(corner, ORIGIN + (R * SPACING) @ np.array(e[0::2], float)),
+          "vtkOrientedImageReader: a NRRD 5 x 6 x 7 (first axis < 10) read as 3-D, voxel for voxel%s"
+          % (", sub-extent %s" % (sub,) if sub else ""))
+
 # An axis-aligned NRRD (spacings only) keeps VTK's reader's geometry.
 axis = os.path.join(ROOT, "axis.nrrd")
 with open(axis, "wb") as f:
