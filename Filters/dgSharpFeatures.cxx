@@ -220,22 +220,22 @@ struct RegionSample
     if (!S.allFinite() || !(d.norm() > 1e-9))
       return 0;
     const Eigen::Vector3d e = mm.cross(d).normalized();
-    const double k = 0.5 * (e.dot(S * e) + e.dot(S.transpose() * e));
+    const double k = e.dot(S * e);
     const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - mm * mm.transpose();
     const double spread = d.squaredNorm() - (P * cov * P).trace();
     const double fall = 0.5 * k * spread;
     // The slope's standard error: sigma / sqrt(n var_e(x)), sigma^2 the
-    // fit's residual variance per tangent component.
-    // The residual of the fit restricted to the plane and symmetrised, as
-    // a shape operator is: what the raw fit explains beyond it (the lean
-    // across the edge, a twist) counts as scatter.
+    // residual variance per tangent component around the fit restricted to
+    // the plane and symmetrised, as a shape operator is: what the raw fit
+    // explains beyond it (the lean across the edge, a twist) is scatter.
     Eigen::Matrix3d St = P * S * P;
     St = 0.5 * (St + St.transpose());
     const double cuu = this->NormalSquares / n - ubar.squaredNorm();
     const double rss = std::max(
       0.0, cuu - 2 * (St * cux.transpose()).trace() + (St * cov * St.transpose()).trace());
     const double sigma2 = rss * n / std::max(1.0, 2.0 * (n - 4));
-    const double se = 0.5 * std::abs(spread) * std::sqrt(sigma2 / (n * std::max(e.dot(cov * e), 1e-12)));
+    const double se =
+      0.5 * std::abs(spread) * std::sqrt(sigma2 / (n * std::max(e.dot(cov * e), 1e-12)));
     constexpr double z = 3.0;
     const double shrink = std::max(0.0, 1.0 - z * z * se * se / std::max(fall * fall, 1e-300));
     return std::isfinite(fall * shrink) ? fall * shrink : 0.0;
