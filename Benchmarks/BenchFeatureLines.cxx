@@ -7,7 +7,10 @@
 //          [--islands N (default 8, vtkDigitalIslandFilter; 0 = off)] [--depth D]
 //          [--min-region M] [--angle DEG] [--edge-angle DEG] [--beta B]
 //          [--residual R] [--fit 0|1] [--passes P] [--vote-depth D]
-//          [--threshold T] [--second-pass 0|1]
+//          [--threshold T] [--second-pass 0|1] [--curved 0|1]
+// DG_ATCACHE=DIR keeps AT's output per case in DIR and reuses it (then only
+// the stage runs, and the II and AT lines are not printed): parameter
+// studies of the stage alone.
 // DG_PROFILE=1 also prints the errors by distance to the edges and where the
 // lines lie; DG_DUMP=PREFIX writes PREFIX_surface.vtp, _lines.vtp, _atlines.vtp.
 #include "dgFeatureMetrics.h"
@@ -26,7 +29,9 @@
 #include <vtkNew.h>
 #include <vtkPolyData.h>
 #include <vtkSMPTools.h>
+#include <vtkXMLPolyDataReader.h>
 #include <vtkXMLPolyDataWriter.h>
+#include <sys/stat.h>
 
 #include <array>
 #include <chrono>
@@ -77,7 +82,7 @@ std::string Profile(const dgtest::ImplicitShape& shape, vtkPolyData* surface, co
   vtkDataArray* n = surface->GetCellData()->GetArray(name);
   double sum[8] = { 0 };
   int count[8] = { 0 };
-  int big = 0, outside = 0;
+  int big = 0, outside = 0, flatBad = 0;
   for (std::size_t i = 0; i < centres.size(); ++i)
   {
     const double value = shape.Value(centres[i]);
@@ -92,7 +97,11 @@ std::string Profile(const dgtest::ImplicitShape& shape, vtkPolyData* surface, co
     sum[b] += std::min(a, 180 - a);
     ++count[b];
     if (b == 0)
+    {
       big += std::min(a, 180 - a) > 30, outside += value > 0;
+      if (std::min(a, 180 - a) > 30 && t.cwiseAbs().maxCoeff() > 0.9999)
+        ++flatBad;
+    }
   }
   std::string out;
   char buf[96];
@@ -101,7 +110,8 @@ std::string Profile(const dgtest::ImplicitShape& shape, vtkPolyData* surface, co
     std::snprintf(buf, sizeof(buf), " %5.1f", count[b] ? sum[b] / count[b] : 0.0);
     out += buf;
   }
-  std::snprintf(buf, sizeof(buf), " | bin0 >30deg %d/%d, outside %d", big, count[0], outside);
+  std::snprintf(buf, sizeof(buf), " | bin0 >30deg %d/%d (true normal axis-aligned %d), outside %d", big,
+    count[0], flatBad, outside);
   return out + buf;
 }
 // The lines an oracle would draw: faces labelled by their true normal (one
@@ -170,7 +180,7 @@ int main(int argc, char* argv[])
   double radius = 4, alpha = 0.05, lambda = 0.005, angle = 15;
   int depth = 5, minRegion = 30;
   double threshold = 0.5, edgeAngle = 10;
-  int islands = 8, passes = 2, voteDepth = 2, fit = 1;
+  int islands = 8, passes = 2, voteDepth = 2, fit = 1, curved = 1;
   double beta = 0.2, residual = 0.3;
   bool secondPass = false;
   for (int a = 1; a + 1 < argc; a += 2)
@@ -212,6 +222,8 @@ int main(int argc, char* argv[])
       residual = std::stod(v);
     else if (k == "--fit")
       fit = std::stoi(v);
+    else if (k == "--curved")
+      curved = std::stoi(v);
     else if (k == "--second-pass")
       secondPass = std::stoi(v) != 0;
     else if (k == "--passes")
@@ -247,6 +259,46 @@ int main(int argc, char* argv[])
         for (std::size_t si = 0; si < (k == 0 ? 1 : seeds.size()); ++si)
         {
           const auto t0 = std::chrono::steady_clock::now();
+          std::string cached;
+          if (const char* dir = std::getenv("DG_ATCACHE"))
+          {
+            char key[160];
+            std::snprintf(key, sizeof(key), "/%s_%d_%.2f_%d_r%g_a%g_l%g_i%d.vtp", name.c_str(), n, k,
+              seeds[si], radius, alpha, lambda, islands);
+            cached = std::string(dir) + key;
+          }
+          struct stat st;
+          if (!cached.empty() && stat(cached.c_str(), &st) == 0)
+          {
+            vtkNew<vtkXMLPolyDataReader> rd;
+            rd->SetFileName(cached.c_str());
+            rd->Update();
+            vtkNew<vtkSharpFeaturesFilter> sharp;
+            sharp->SetInputData(rd->GetOutput());
+            sharp->SetSearchDepth(depth);
+            sharp->SetSmoothingPasses(passes);
+            sharp->SetSmoothingDepth(voteDepth);
+            sharp->SetRegionEdgeAngle(edgeAngle);
+            sharp->SetFeatureThreshold(threshold);
+            sharp->SetMinimumRegionSize(minRegion);
+            sharp->SetMinimumFeatureAngle(angle);
+            sharp->SetFitPlanes(fit != 0);
+            sharp->SetCurvedSides(curved != 0);
+            sharp->SetFitResidual(residual);
+            sharp->SetReferenceWeight(beta);
+            sharp->Update();
+            const auto mS = dgtest::MeasureFeatures(
+              *shape, sharp->GetOutput(0), "SharpNormals", sharp->GetOutput(1));
+            std::printf("%-10s %4d k %.1f s %d | sharp %s | band %lld unassigned %lld regions %d | cached\n",
+              name.c_str(), n, k, seeds[si], mS.Describe().c_str(),
+              static_cast<long long>(sharp->GetNumberOfBandFaces()),
+              static_cast<long long>(sharp->GetNumberOfUnassignedFaces()), sharp->GetNumberOfRegions());
+            if (std::getenv("DG_PROFILE"))
+              std::printf("   profile by edge distance 0..7+: sharp%s\n",
+                Profile(*shape, sharp->GetOutput(0), "SharpNormals").c_str());
+            std::fflush(stdout);
+            continue;
+          }
           vtkSmartPointer<vtkImageData> image = dgtest::NoisyDigitize(*shape, n, k, seeds[si]);
           if (islands > 1)
           {
@@ -276,9 +328,18 @@ int main(int argc, char* argv[])
           sharp->SetMinimumRegionSize(minRegion);
           sharp->SetMinimumFeatureAngle(angle);
           sharp->SetFitPlanes(fit != 0);
+          sharp->SetCurvedSides(curved != 0);
           sharp->SetFitResidual(residual);
           sharp->SetReferenceWeight(beta);
           sharp->Update();
+          if (!cached.empty())
+          {
+            vtkNew<vtkXMLPolyDataWriter> w;
+            w->SetInputData(at->GetOutput(0));
+            w->SetFileName(cached.c_str());
+            w->SetDataModeToBinary();
+            w->Write();
+          }
           const double s =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
           const auto mAT = dgtest::MeasureFeatures(*shape, at->GetOutput(0), "ATNormals", at->GetOutput(1));

@@ -152,6 +152,8 @@ struct RegionSample
   int Count = 0;
   Vec3 CentroidSum, NormalSum;
   double Moment[6] = { 0, 0, 0, 0, 0, 0 }; // sums of xx, xy, xz, yy, yz, zz
+  Eigen::Matrix3d NormalMoment = Eigen::Matrix3d::Zero(); // sum of u x^T
+  double NormalSquares = 0;                                // sum of |u|^2
 
   void AddPosition(const Vec3& p)
   {
@@ -164,15 +166,15 @@ struct RegionSample
     this->Moment[5] += p.z * p.z;
   }
 
-  // The normal of the least-squares plane through the positions (the
-  // covariance's smallest eigenvector), turned to the side of the mean field
-  // normal; the mean field normal itself when the positions do not span a
-  // plane.
-  Vec3 PlaneNormal(double maxResidual2) const
+  void AddNormal(const Vec3& u, const Vec3& p)
   {
-    const Vec3 mean = this->NormalSum.Unit();
-    if (this->Count < 3)
-      return mean;
+    this->NormalSum += u;
+    this->NormalMoment += Eigen::Vector3d(u.x, u.y, u.z) * Eigen::RowVector3d(p.x, p.y, p.z);
+    this->NormalSquares += u.Dot(u);
+  }
+
+  Eigen::Matrix3d Covariance() const
+  {
     const double n = this->Count;
     const Vec3 c = this->CentroidSum * (1.0 / n);
     Eigen::Matrix3d cov;
@@ -182,7 +184,73 @@ struct RegionSample
     cov(1, 1) = this->Moment[3] / n - c.y * c.y;
     cov(1, 2) = cov(2, 1) = this->Moment[4] / n - c.y * c.z;
     cov(2, 2) = this->Moment[5] / n - c.z * c.z;
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+    return cov;
+  }
+
+  // How far the side's surface falls below its plane (centroid c, unit
+  // normal m) at p, relative to its mean fall over the samples (the plane
+  // passes through their centroid): 1/2 k (|d|^2 - tr Cov_t), d = p - c in
+  // the plane, k the side's curvature along the edge, taken as isotropic.
+  // k is the slope along the edge of the normal field's linear fit
+  // u(x) = mean + S (x - c): the normals, because a digital plane's
+  // staircase bends the positions but not the regularised normals; along
+  // the edge, because the normals next to AT's band still lean towards the
+  // other side (a slope across the edge, which a flat side must not read as
+  // curvature), and that lean does not change along the edge. The fall is
+  // shrunk to nothing when k is not significant against the fit's residual
+  // (James-Stein-like factor 1 - z^2 se^2 / fall^2, z = 3): noise alone
+  // must not bend a plane.
+  double Fall(const Vec3& m, const Vec3& p) const
+  {
+    if (this->Count < 6)
+      return 0;
+    const double n = this->Count;
+    const Eigen::Vector3d c(
+      this->CentroidSum.x / n, this->CentroidSum.y / n, this->CentroidSum.z / n);
+    const Eigen::Vector3d ubar(
+      this->NormalSum.x / n, this->NormalSum.y / n, this->NormalSum.z / n);
+    const Eigen::Matrix3d cov = this->Covariance();
+    const Eigen::Matrix3d cux = this->NormalMoment / n - ubar * c.transpose();
+    // A small ridge: the samples barely spread along the normal.
+    const Eigen::Matrix3d reg = cov + 1e-3 * cov.trace() * Eigen::Matrix3d::Identity();
+    const Eigen::Matrix3d S = cux * reg.inverse();
+    const Eigen::Vector3d mm(m.x, m.y, m.z);
+    const Eigen::Vector3d d0 = Eigen::Vector3d(p.x, p.y, p.z) - c;
+    const Eigen::Vector3d d = d0 - mm * mm.dot(d0);
+    if (!S.allFinite() || !(d.norm() > 1e-9))
+      return 0;
+    const Eigen::Vector3d e = mm.cross(d).normalized();
+    const double k = e.dot(S * e);
+    const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - mm * mm.transpose();
+    const double spread = d.squaredNorm() - (P * cov * P).trace();
+    const double fall = 0.5 * k * spread;
+    // The slope's standard error: sigma / sqrt(n var_e(x)), sigma^2 the
+    // residual variance per tangent component around the fit restricted to
+    // the plane and symmetrised, as a shape operator is: what the raw fit
+    // explains beyond it (the lean across the edge, a twist) is scatter.
+    Eigen::Matrix3d St = P * S * P;
+    St = 0.5 * (St + St.transpose());
+    const double cuu = this->NormalSquares / n - ubar.squaredNorm();
+    const double rss = std::max(
+      0.0, cuu - 2 * (St * cux.transpose()).trace() + (St * cov * St.transpose()).trace());
+    const double sigma2 = rss * n / std::max(1.0, 2.0 * (n - 4));
+    const double se =
+      0.5 * std::abs(spread) * std::sqrt(sigma2 / (n * std::max(e.dot(cov * e), 1e-12)));
+    constexpr double z = 3.0;
+    const double shrink = std::max(0.0, 1.0 - z * z * se * se / std::max(fall * fall, 1e-300));
+    return std::isfinite(fall * shrink) ? fall * shrink : 0.0;
+  }
+
+  // The normal of the least-squares plane through the positions (the
+  // covariance's smallest eigenvector), turned to the side of the mean field
+  // normal; the mean field normal itself when the positions do not span a
+  // plane.
+  Vec3 PlaneNormal(double maxResidual2) const
+  {
+    const Vec3 mean = this->NormalSum.Unit();
+    if (this->Count < 3)
+      return mean;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(this->Covariance());
     const Eigen::Vector3d ev = eig.eigenvalues();
     // A line of faces (second eigenvalue ~ 0) does not fix a plane.
     if (!(ev(1) > 1e-3 * std::max(ev(2), 1e-300)) || !(ev(0) <= maxResidual2))
@@ -404,8 +472,9 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
           it = s.Samples.end() - 1;
         }
         ++it->Count;
-        it->AddPosition(centre[f]);
-        it->NormalSum += field[f];
+        // Relative to the band face: small numbers for the moments.
+        it->AddPosition(centre[f] - centre[f0]);
+        it->AddNormal(field[f], centre[f] - centre[f0]);
         return limit;
       });
       if (s.Samples.empty())
@@ -432,7 +501,10 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
           continue;
         const Vec3 n = r.NormalSum.Unit();
         const Vec3 c = r.CentroidSum * (1.0 / r.Count);
-        const double sd = n.Dot(centre[f0] - c);
+        // Positions are relative to the band face (p = 0).
+        double sd = n.Dot(c * -1.0);
+        if (par.CurvedSides)
+          sd += r.Fall(n, Vec3());
         bool take = !chosen;
         if (chosen)
         {

@@ -15,11 +15,12 @@
 //    over the face graph collects region faces up to SearchDepth steps
 //    beyond the first one it meets. Every region met (with at least
 //    MinimumSupport faces) gives a local plane: the centroid of those faces
-//    and the normalised mean of their normals. The face joins the region
-//    whose plane its centre is closest to (only regions whose normal faces
-//    the same way as the face's own polygon take part) and takes that
-//    plane's normal. A band face that meets no region keeps its normal and
-//    region -1.
+//    and the normalised mean of their normals. The face joins the side
+//    that puts its outside voxel outside (signed distances to the planes;
+//    only regions whose normal faces the same way as the face's own polygon
+//    take part; with CurvedSides, a side's plane bends by the curvature its
+//    normals show along the edge) and takes that side's fitted normal. A
+//    band face that meets no region keeps its normal and region -1.
 // 4. Regions meeting along a boundary whose mean normal jump (over the
 //    boundary's edges) is below MinimumFeatureAngle are merged: AT's false
 //    bands inside a smooth part give no line.
@@ -49,6 +50,7 @@ struct SharpFeatureParameters
   int SmoothingDepth = 2;        // face steps of the vote's neighbourhood
   bool ExtrapolateSides = true;  // merges compare the sides' normal fields extrapolated to the boundary
   bool FitPlanes = true;         // local planes fitted to positions (else mean normals)
+  bool CurvedSides = true;       // sides bend by their normals' curvature along the edge
   double FitResidual = 0.3;      // edge lengths: a fit with a larger RMS residual is not used
   int MinimumSupport = 3;        // region faces needed for a local plane
   int NormalSmoothingDepth = 3;  // final mean over the face's own region (0 = none)

@@ -93,6 +93,7 @@ int vtkSharpFeaturesFilter::RequestData(
   par.SmoothingPasses = this->SmoothingPasses;
   par.SmoothingDepth = this->SmoothingDepth;
   par.FitPlanes = this->FitPlanes;
+  par.CurvedSides = this->CurvedSides;
   par.FitResidual = this->FitResidual;
   par.ReferenceWeight = this->ReferenceWeight;
   par.MinimumFeatureAngle = this->MinimumFeatureAngle;
@@ -289,6 +290,7 @@ void vtkSharpFeaturesFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SmoothingDepth: " << this->SmoothingDepth << "\n";
   os << indent << "NormalSmoothingDepth: " << this->NormalSmoothingDepth << "\n";
   os << indent << "FitPlanes: " << (this->FitPlanes ? "On" : "Off") << "\n";
+  os << indent << "CurvedSides: " << (this->CurvedSides ? "On" : "Off") << "\n";
   os << indent << "FitResidual: " << this->FitResidual << "\n";
   os << indent << "ReferenceWeight: " << this->ReferenceWeight << "\n";
   os << indent << "MinimumFeatureAngle: " << this->MinimumFeatureAngle << "\n";

@@ -132,6 +132,20 @@ public:
 
   ///@{
   /**
+   * Whether a band face's choice of side lets each side's plane bend by the
+   * curvature that side's normals show along the edge (default on; shrunk
+   * to none when not significant against the normals' scatter). Off, flat
+   * planes: on a curved side the plane lies above the surface near the
+   * edge and hands that side's faces to its neighbour
+   * (docs/sharp-features.md).
+   */
+  vtkSetMacro(CurvedSides, bool);
+  vtkGetMacro(CurvedSides, bool);
+  vtkBooleanMacro(CurvedSides, bool);
+  ///@}
+
+  ///@{
+  /**
    * How fast a growing region's reference normal follows its faces (in
    * (0, 1], default 0.2): see RegionEdgeAngle.
    */
@@ -183,6 +197,7 @@ protected:
   int SmoothingPasses = 2;
   int SmoothingDepth = 2;
   bool FitPlanes = true;
+  bool CurvedSides = true;
   int NormalSmoothingDepth = 3;
   double FitResidual = 0.3;
   double ReferenceWeight = 0.2;

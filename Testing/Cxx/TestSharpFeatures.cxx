@@ -298,8 +298,11 @@ TEST_P(ProgramDefaults, FeaturesAndNormalsOnGroundTruth)
   const int n = std::get<1>(GetParam());
   auto shape = Shape(name, n);
   // cube-sphere's 38-degree circles are the hardest edges here; issue 15's
-  // targets are not all met on them (docs/sharp-features.md), so its bounds
-  // are the measured figures with a margin, and say so.
+  // targets are not all met on them (docs/sharp-features.md): where one is
+  // missed the bound is the worst measured figure (64^3 and 128^3, both
+  // seeds) with a margin (0.06 voxel, 0.03 in P and R, 1.35 degrees within
+  // one voxel, 0.5 degree for the mean), and says so; where one is met the
+  // target itself is asserted.
   const bool cs = name == "cubesphere";
 
   const PipelineRun clean = RunProgramDefaults(*shape, n, 0.0, 1);
@@ -307,11 +310,11 @@ TEST_P(ProgramDefaults, FeaturesAndNormalsOnGroundTruth)
     clean.Sharp.Describe().c_str(), name.c_str(), n, clean.Plain.Describe().c_str());
   const auto& c = clean.Sharp;
   EXPECT_LE(c.Multiplicity, 2.0);
-  EXPECT_LE(c.Offset, cs ? 0.9 : 0.5);
-  EXPECT_GE(c.Precision, cs ? 0.85 : 0.97);
-  EXPECT_GE(c.Recall, cs ? 0.88 : 0.97);
-  EXPECT_LE(c.Error1, cs ? 18.0 : 8.0);
-  EXPECT_LE(c.MeanError, cs ? 6.0 : 3.0);
+  EXPECT_LE(c.Offset, cs ? 0.75 : 0.5);    // cube-sphere measured 0.64-0.69
+  EXPECT_GE(c.Precision, 0.97);
+  EXPECT_GE(c.Recall, 0.97);
+  EXPECT_LE(c.Error1, cs ? 15.0 : 8.0);    // cube-sphere measured 12.8-13.7
+  EXPECT_LE(c.MeanError, cs ? 4.0 : 3.0);  // cube-sphere measured 1.8-3.5
   // What the stage is for: fewer, better placed lines than AT's ladders.
   EXPECT_LT(c.Multiplicity, clean.Plain.Multiplicity);
   if (!cs)
@@ -326,10 +329,10 @@ TEST_P(ProgramDefaults, FeaturesAndNormalsOnGroundTruth)
       noisy.Sharp.Describe().c_str(), name.c_str(), n, seed, noisy.Plain.Describe().c_str());
     const auto& m = noisy.Sharp;
     EXPECT_LE(m.Multiplicity, 2.5) << seed;
-    EXPECT_GE(m.Precision, cs ? 0.65 : 0.85) << seed;
-    EXPECT_GE(m.Recall, cs ? 0.85 : 0.95) << seed;
-    EXPECT_LE(m.MeanError, cs ? 8.0 : 6.0) << seed;
-    EXPECT_LE(m.Error3, cs ? 13.0 : 12.0) << seed;
+    EXPECT_GE(m.Precision, cs ? 0.68 : 0.85) << seed; // cube-sphere measured 0.71-0.79
+    EXPECT_GE(m.Recall, cs ? 0.87 : 0.95) << seed;    // cube-sphere measured 0.90-0.94
+    EXPECT_LE(m.MeanError, 6.0) << seed;
+    EXPECT_LE(m.Error3, 12.0) << seed;
     EXPECT_GT(m.Precision, noisy.Plain.Precision - 0.02) << seed;
 
     // k = 0.5 has no target in the issue: the stage must not be worse than
