@@ -26,12 +26,15 @@ namespace dg
 /// selected count as 0), with the II normals of LabelInside's own surface
 /// (run on its box, as --labels does) and the points of all labels merged,
 /// so that AT sees one complex: non-manifold along the lines where three or
-/// more labels meet. `run` updates a filter under the caller's progress and
+/// more labels meet: vtkDigitalSurfaceFilter in Interfaces mode, then
+/// vtkIINormalEstimator in EachLabel mode. `run` updates a filter under the caller's progress and
 /// error observers (false: it failed, and the caller holds the message);
 /// nullptr then, or with `error` set on an inconsistency.
 vtkSmartPointer<vtkPolyData> LabelInterfaces(vtkImageData* image,
-  const std::vector<LabelBox>& labels, const PipelineSettings& settings,
-  const std::function<bool(vtkAlgorithm*, const std::string&)>& run, std::string& error);
+  const std::vector<LabelBox>& labels,
+  const PipelineSettings& settings,
+  const std::function<bool(vtkAlgorithm*, const std::string&)>& run,
+  std::string& error);
 
 /// Voxel layers around a label's box that its pipeline reads: the input
 /// normals' ball or offset (II ceil(r) + 1, VCM ceil(2R + r) + 1, RHT

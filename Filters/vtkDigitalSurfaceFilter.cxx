@@ -27,7 +27,11 @@
 #include <vtkStreamingDemandDrivenPipeline.h>
 #include <vtkUnsignedCharArray.h>
 
+#include <Eigen/Dense>
+
 #include <cmath>
+#include <unordered_map>
+#include <unordered_set>
 
 vtkStandardNewMacro(vtkDigitalSurfaceFilter);
 
@@ -91,21 +95,25 @@ PieceRequest ReadPieceRequest(vtkInformation* outInfo, vtkInformation* inInfo)
 // Keeps the surfels whose inside voxel lies in `emit` (in their order) and
 // the points they use (renumbered by first use); returns each kept surfel's
 // ghost flag (DUPLICATECELL outside `own`).
-std::vector<unsigned char> KeepPieceSurfels(
-  dg::CubicalSurface& s, const int ext[6], const int own[6], const int emit[6])
+std::vector<unsigned char> KeepPieceSurfels(dg::CubicalSurface& s,
+  const int ext[6],
+  const int own[6],
+  const int emit[6])
 {
   const std::int64_t n = s.NumberOfSurfels();
   std::vector<std::int64_t> pointMap(s.NumberOfPoints(), -1);
   std::vector<unsigned char> ghost;
   std::int64_t kept = 0, points = 0;
-  auto within = [](const int v[3], const int e[6]) {
+  auto within = [](const int v[3], const int e[6])
+  {
     return v[0] >= e[0] && v[0] <= e[1] && v[1] >= e[2] && v[1] <= e[3] && v[2] >= e[4] &&
-      v[2] <= e[5];
+           v[2] <= e[5];
   };
   for (std::int64_t c = 0; c < n; ++c)
   {
-    const int v[3] = { s.Voxels[3 * c] + ext[0], s.Voxels[3 * c + 1] + ext[2],
-      s.Voxels[3 * c + 2] + ext[4] };
+    const int v[3] = {
+      s.Voxels[3 * c] + ext[0], s.Voxels[3 * c + 1] + ext[2], s.Voxels[3 * c + 2] + ext[4]
+    };
     if (!within(v, emit))
     {
       continue;
@@ -168,16 +176,18 @@ vtkMTimeType vtkDigitalSurfaceFilter::GetMTime()
   return this->Abort ? this->Abort->MTime(base) : base;
 }
 
-int vtkDigitalSurfaceFilter::RequestInformation(
-  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+int vtkDigitalSurfaceFilter::RequestInformation(vtkInformation*,
+  vtkInformationVector**,
+  vtkInformationVector* outputVector)
 {
   // Pieces are cut from the image by this filter (RequestUpdateExtent).
   outputVector->GetInformationObject(0)->Set(vtkAlgorithm::CAN_HANDLE_PIECE_REQUEST(), 1);
   return 1;
 }
 
-int vtkDigitalSurfaceFilter::RequestUpdateExtent(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+int vtkDigitalSurfaceFilter::RequestUpdateExtent(vtkInformation*,
+  vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
 {
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
@@ -209,8 +219,9 @@ int vtkDigitalSurfaceFilter::RequestUpdateExtent(
   return 1;
 }
 
-int vtkDigitalSurfaceFilter::RequestData(
-  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+int vtkDigitalSurfaceFilter::RequestData(vtkInformation* request,
+  vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
 {
   const int status = this->ExecutePiece(request, inputVector, outputVector);
   // In a distributed run every piece stops when one fails: the later
@@ -223,8 +234,9 @@ int vtkDigitalSurfaceFilter::RequestData(
   return status;
 }
 
-int vtkDigitalSurfaceFilter::ExecutePiece(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+int vtkDigitalSurfaceFilter::ExecutePiece(vtkInformation*,
+  vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
 {
   vtkImageData* input = vtkImageData::GetData(inputVector[0]);
   vtkPolyData* output = vtkPolyData::GetData(outputVector);
@@ -240,8 +252,8 @@ int vtkDigitalSurfaceFilter::ExecutePiece(
   }
   int ext[6];
   input->GetExtent(ext);
-  PieceRequest piece =
-    ReadPieceRequest(outputVector->GetInformationObject(0), inputVector[0]->GetInformationObject(0));
+  PieceRequest piece = ReadPieceRequest(
+    outputVector->GetInformationObject(0), inputVector[0]->GetInformationObject(0));
   if (!piece.Distributed() || dg::ExtentEmpty(piece.Whole))
   {
     // One piece: the surface of the image as given (SetInputData included).
@@ -255,8 +267,9 @@ int vtkDigitalSurfaceFilter::ExecutePiece(
   }
   const int* checked = piece.Distributed() ? piece.Whole : ext;
   const int dims[3] = { ext[1] - ext[0] + 1, ext[3] - ext[2] + 1, ext[5] - ext[4] + 1 };
-  const int checkedDims[3] = { checked[1] - checked[0] + 1, checked[3] - checked[2] + 1,
-    checked[5] - checked[4] + 1 };
+  const int checkedDims[3] = {
+    checked[1] - checked[0] + 1, checked[3] - checked[2] + 1, checked[5] - checked[4] + 1
+  };
   if (checkedDims[0] <= 0 || checkedDims[1] <= 0 || checkedDims[2] <= 0)
   {
     vtkErrorMacro("Input image is empty (extent " << checked[0] << ".." << checked[1] << ", "
@@ -270,21 +283,25 @@ int vtkDigitalSurfaceFilter::ExecutePiece(
   {
     vtkErrorMacro("Input image is 2D; a digital surface needs a 3D image, at least 2 voxels "
                   "along each axis (dimensions "
-      << checkedDims[0] << " x " << checkedDims[1] << " x " << checkedDims[2] << ").");
+                  << checkedDims[0] << " x " << checkedDims[1] << " x " << checkedDims[2] << ").");
     return 0;
   }
-  if (this->SelectionMode == EACH_LABEL)
+  if (this->SelectionMode == EACH_LABEL || this->SelectionMode == INTERFACES)
   {
     if (piece.Distributed())
     {
-      vtkErrorMacro("SelectionMode EachLabel runs in one piece only (asked for piece "
-        << piece.Piece << " of " << piece.Pieces << ").");
+      vtkErrorMacro("SelectionMode "
+                    << (this->SelectionMode == EACH_LABEL ? "EachLabel" : "Interfaces")
+                    << " runs in one piece only (asked for piece " << piece.Piece << " of "
+                    << piece.Pieces << ").");
       return 0;
     }
     return this->ExecuteEachLabel(input,
-      dg::SelectionArray(this->GetInputArrayToProcess(0, inputVector),
-        this->GetInputArrayInformation(0), input),
-      piece.Whole, output, outputVector);
+      dg::SelectionArray(
+        this->GetInputArrayToProcess(0, inputVector), this->GetInputArrayInformation(0), input),
+      piece.Whole,
+      output,
+      outputVector);
   }
   dg::CubicalSurface surface;
   const bool emptyPiece = dg::ExtentEmpty(piece.Own);
@@ -295,26 +312,31 @@ int vtkDigitalSurfaceFilter::ExecutePiece(
     if (!dg::ExtentContains(ext, need))
     {
       vtkErrorMacro("Piece " << piece.Piece << " of " << piece.Pieces << " needs the voxels "
-        << need[0] << ".." << need[1] << ", " << need[2] << ".." << need[3] << ", " << need[4]
-        << ".." << need[5] << " but the input image holds only " << ext[0] << ".." << ext[1]
-        << ", " << ext[2] << ".." << ext[3] << ", " << ext[4] << ".." << ext[5]
-        << ": its source does not produce the requested sub-extents.");
+                             << need[0] << ".." << need[1] << ", " << need[2] << ".." << need[3]
+                             << ", " << need[4] << ".." << need[5]
+                             << " but the input image holds only " << ext[0] << ".." << ext[1]
+                             << ", " << ext[2] << ".." << ext[3] << ", " << ext[4] << ".." << ext[5]
+                             << ": its source does not produce the requested sub-extents.");
       return 0;
     }
   }
   if (!emptyPiece)
   {
-    vtkDataArray* scalars = dg::SelectionArray(this->GetInputArrayToProcess(0, inputVector),
-      this->GetInputArrayInformation(0), input);
+    vtkDataArray* scalars = dg::SelectionArray(
+      this->GetInputArrayToProcess(0, inputVector), this->GetInputArrayInformation(0), input);
 
     // 1. Selection mask.
     dg::PaddedMask mask;
     mask.Allocate(dims[0], dims[1], dims[2]);
-    const dg::VoxelSelection select{ this->SelectionMode, this->LowerThreshold,
-      this->UpperThreshold, this->Label, this->SelectedComponent };
+    const dg::VoxelSelection select{ this->SelectionMode,
+      this->LowerThreshold,
+      this->UpperThreshold,
+      this->Label,
+      this->SelectedComponent };
     std::int64_t insideCount = 0;
     std::string error;
-    if (!dg::SelectVoxels(scalars, dims, select, mask.Data.data(), mask.RowLength(), 1, insideCount, error))
+    if (!dg::SelectVoxels(
+          scalars, dims, select, mask.Data.data(), mask.RowLength(), 1, insideCount, error))
     {
       vtkErrorMacro("Cannot select voxels: " << error << ".");
       return 0;
@@ -322,12 +344,12 @@ int vtkDigitalSurfaceFilter::ExecutePiece(
     // In a piece, no inside voxel is normal (the shape lies elsewhere).
     if (insideCount == 0 && !piece.Distributed())
     {
-      vtkErrorMacro("No voxel matches the selection (mode "
-        << this->SelectionMode << "): the surface is empty.");
+      vtkErrorMacro("No voxel matches the selection (mode " << this->SelectionMode
+                                                            << "): the surface is empty.");
       return 0;
     }
     if (insideCount == static_cast<std::int64_t>(dims[0]) * dims[1] * dims[2] &&
-      !piece.Distributed())
+        !piece.Distributed())
     {
       vtkWarningMacro("Every voxel is inside: the surface is the border of the image.");
     }
@@ -339,10 +361,13 @@ int vtkDigitalSurfaceFilter::ExecutePiece(
     }
 
     // 2. The cubical complex.
-    const bool done = dg::ExtractCubicalSurface(mask, surface, [this](double f) {
-      this->UpdateProgress(0.3 + 0.6 * f);
-      return !this->GetAbortExecute();
-    });
+    const bool done = dg::ExtractCubicalSurface(mask,
+      surface,
+      [this](double f)
+      {
+        this->UpdateProgress(0.3 + 0.6 * f);
+        return !this->GetAbortExecute();
+      });
     if (!done)
     {
       return this->Abort->Abort(outputVector);
@@ -377,20 +402,24 @@ int vtkDigitalSurfaceFilter::ExecutePiece(
   points->SetDataTypeToDouble();
   points->SetNumberOfPoints(nPoints);
   auto* pts = vtkDoubleArray::SafeDownCast(points->GetData())->GetPointer(0);
-  vtkSMPTools::For(0, nPoints, [&](std::int64_t b, std::int64_t e) {
-    for (std::int64_t p = b; p < e; ++p)
+  vtkSMPTools::For(0,
+    nPoints,
+    [&](std::int64_t b, std::int64_t e)
     {
-      double idx[3];
-      for (int a = 0; a < 3; ++a)
+      for (std::int64_t p = b; p < e; ++p)
       {
-        idx[a] = spacing[a] * (ext[2 * a] + surface.Corners[3 * p + a] - 0.5);
+        double idx[3];
+        for (int a = 0; a < 3; ++a)
+        {
+          idx[a] = spacing[a] * (ext[2 * a] + surface.Corners[3 * p + a] - 0.5);
+        }
+        for (int r = 0; r < 3; ++r)
+        {
+          pts[3 * p + r] =
+            origin[r] + dir[3 * r] * idx[0] + dir[3 * r + 1] * idx[1] + dir[3 * r + 2] * idx[2];
+        }
       }
-      for (int r = 0; r < 3; ++r)
-      {
-        pts[3 * p + r] = origin[r] + dir[3 * r] * idx[0] + dir[3 * r + 1] * idx[1] + dir[3 * r + 2] * idx[2];
-      }
-    }
-  });
+    });
 
   vtkNew<vtkIdTypeArray> offsets, connectivity;
   offsets->SetNumberOfValues(nSurfels + 1);
@@ -425,27 +454,31 @@ int vtkDigitalSurfaceFilter::ExecutePiece(
   float* nrm = normals->GetPointer(0);
   int* vox = voxels->GetPointer(0);
   unsigned char* dirs = directions->GetPointer(0);
-  vtkSMPTools::For(0, nSurfels, [&](std::int64_t b, std::int64_t e) {
-    for (std::int64_t s = b; s < e; ++s)
+  vtkSMPTools::For(0,
+    nSurfels,
+    [&](std::int64_t b, std::int64_t e)
     {
-      off[s] = 4 * s;
-      for (int c = 0; c < 4; ++c)
+      for (std::int64_t s = b; s < e; ++s)
       {
-        conn[4 * s + c] = surface.Quads[4 * s + (reflect ? 3 - c : c)];
+        off[s] = 4 * s;
+        for (int c = 0; c < 4; ++c)
+        {
+          conn[4 * s + c] = surface.Quads[4 * s + (reflect ? 3 - c : c)];
+        }
+        const int d = surface.Directions[s];
+        for (int a = 0; a < 3; ++a)
+        {
+          nrm[3 * s + a] = dirNormals[d][a];
+          vox[3 * s + a] = surface.Voxels[3 * s + a] + ext[2 * a];
+        }
+        dirs[s] = static_cast<unsigned char>(d);
       }
-      const int d = surface.Directions[s];
-      for (int a = 0; a < 3; ++a)
-      {
-        nrm[3 * s + a] = dirNormals[d][a];
-        vox[3 * s + a] = surface.Voxels[3 * s + a] + ext[2 * a];
-      }
-      dirs[s] = static_cast<unsigned char>(d);
-    }
-  });
+    });
   off[nSurfels] = 4 * nSurfels;
 
   // Global ids from the whole extent's grid (see the class description).
-  const std::int64_t wn[3] = { piece.Whole[1] - piece.Whole[0] + 1, piece.Whole[3] - piece.Whole[2] + 1,
+  const std::int64_t wn[3] = { piece.Whole[1] - piece.Whole[0] + 1,
+    piece.Whole[3] - piece.Whole[2] + 1,
     piece.Whole[5] - piece.Whole[4] + 1 };
   vtkNew<vtkIdTypeArray> cellIds, pointIds;
   cellIds->SetName("GlobalIds");
@@ -459,22 +492,30 @@ int vtkDigitalSurfaceFilter::ExecutePiece(
   {
     shift[a] = ext[2 * a] - piece.Whole[2 * a];
   }
-  vtkSMPTools::For(0, nSurfels, [&](std::int64_t b, std::int64_t e) {
-    for (std::int64_t c = b; c < e; ++c)
+  vtkSMPTools::For(0,
+    nSurfels,
+    [&](std::int64_t b, std::int64_t e)
     {
-      const std::int64_t i = surface.Voxels[3 * c] + shift[0], j = surface.Voxels[3 * c + 1] + shift[1],
-                         k = surface.Voxels[3 * c + 2] + shift[2];
-      cid[c] = ((k * wn[1] + j) * wn[0] + i) * 6 + surface.Directions[c];
-    }
-  });
-  vtkSMPTools::For(0, nPoints, [&](std::int64_t b, std::int64_t e) {
-    for (std::int64_t p = b; p < e; ++p)
+      for (std::int64_t c = b; c < e; ++c)
+      {
+        const std::int64_t i = surface.Voxels[3 * c] + shift[0],
+                           j = surface.Voxels[3 * c + 1] + shift[1],
+                           k = surface.Voxels[3 * c + 2] + shift[2];
+        cid[c] = ((k * wn[1] + j) * wn[0] + i) * 6 + surface.Directions[c];
+      }
+    });
+  vtkSMPTools::For(0,
+    nPoints,
+    [&](std::int64_t b, std::int64_t e)
     {
-      const std::int64_t i = surface.Corners[3 * p] + shift[0], j = surface.Corners[3 * p + 1] + shift[1],
-                         k = surface.Corners[3 * p + 2] + shift[2];
-      pid[p] = (k * (wn[1] + 1) + j) * (wn[0] + 1) + i;
-    }
-  });
+      for (std::int64_t p = b; p < e; ++p)
+      {
+        const std::int64_t i = surface.Corners[3 * p] + shift[0],
+                           j = surface.Corners[3 * p + 1] + shift[1],
+                           k = surface.Corners[3 * p + 2] + shift[2];
+        pid[p] = (k * (wn[1] + 1) + j) * (wn[0] + 1) + i;
+      }
+    });
   vtkNew<vtkCellArray> polys;
   polys->SetData(offsets, connectivity);
 
@@ -521,8 +562,11 @@ int vtkDigitalSurfaceFilter::ExecutePiece(
   return 1;
 }
 
-int vtkDigitalSurfaceFilter::ExecuteEachLabel(vtkImageData* input, vtkDataArray* scalars,
-  const int whole[6], vtkPolyData* output, vtkInformationVector* outputVector)
+int vtkDigitalSurfaceFilter::ExecuteEachLabel(vtkImageData* input,
+  vtkDataArray* scalars,
+  const int whole[6],
+  vtkPolyData* output,
+  vtkInformationVector* outputVector)
 {
   if (!scalars)
   {
@@ -534,7 +578,7 @@ int vtkDigitalSurfaceFilter::ExecuteEachLabel(vtkImageData* input, vtkDataArray*
   if (component < 0 || component >= nc)
   {
     vtkErrorMacro("Cannot select voxels: array has " << nc << " components, SelectedComponent is "
-      << this->SelectedComponent << ".");
+                                                     << this->SelectedComponent << ".");
     return 0;
   }
   int ext[6];
@@ -543,9 +587,10 @@ int vtkDigitalSurfaceFilter::ExecuteEachLabel(vtkImageData* input, vtkDataArray*
   std::vector<dg::LabelBox> boxes;
   std::string error;
   if (!dg::ParseLabelSpec(this->Labels ? this->Labels : "", spec, error) ||
-    !dg::FindLabels(scalars, component, ext, spec, boxes, error))
+      !dg::FindLabels(scalars, component, ext, spec, boxes, error))
   {
-    vtkErrorMacro("EachLabel (Labels '" << (this->Labels ? this->Labels : "") << "'): " << error << ".");
+    vtkErrorMacro(
+      "EachLabel (Labels '" << (this->Labels ? this->Labels : "") << "'): " << error << ".");
     return 0;
   }
   for (const dg::LabelBox& box : boxes)
@@ -569,6 +614,55 @@ int vtkDigitalSurfaceFilter::ExecuteEachLabel(vtkImageData* input, vtkDataArray*
   labels->SetName("Label");
   vtkNew<vtkUnsignedCharArray> directions;
   directions->SetName("SurfelDirection");
+  // Interfaces: the label across each face (0 outside the selection), and
+  // the merged points, keyed by voxel corner.
+  const bool interfaces = this->SelectionMode == INTERFACES;
+  vtkNew<vtkIntArray> outsideLabels;
+  outsideLabels->SetName("LabelOutside");
+  std::unordered_set<long long> selected;
+  for (const dg::LabelBox& box : boxes)
+  {
+    selected.insert(box.Label);
+  }
+  const std::int64_t en[3] = { ext[1] - ext[0] + 1, ext[3] - ext[2] + 1, ext[5] - ext[4] + 1 };
+  auto labelAt = [&](const int v[3]) -> long long
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      if (v[a] < ext[2 * a] || v[a] > ext[2 * a + 1])
+      {
+        return 0;
+      }
+    }
+    const vtkIdType id =
+      ((static_cast<vtkIdType>(v[2] - ext[4]) * en[1]) + (v[1] - ext[2])) * en[0] + (v[0] - ext[0]);
+    const double value = scalars->GetComponent(id, component);
+    const long long l = static_cast<long long>(value);
+    return static_cast<double>(l) == value && selected.count(l) ? l : 0;
+  };
+  // A point's voxel corner: twice its continuous structured index, rounded
+  // (corners sit at half-integer indices), packed into one key.
+  Eigen::Matrix3d toIndex;
+  {
+    const double* d = input->GetDirectionMatrix()->GetData();
+    Eigen::Matrix3d m;
+    for (int r = 0; r < 3; ++r)
+      for (int a = 0; a < 3; ++a)
+        m(r, a) = d[3 * r + a] * input->GetSpacing()[a];
+    toIndex = m.inverse();
+  }
+  const Eigen::Vector3d origin(input->GetOrigin()[0], input->GetOrigin()[1], input->GetOrigin()[2]);
+  auto cornerKey = [&](const double x[3]) -> std::int64_t
+  {
+    const Eigen::Vector3d idx = toIndex * (Eigen::Vector3d(x[0], x[1], x[2]) - origin);
+    std::int64_t k[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      k[a] = std::llround(2 * idx[a]) - 2 * ext[2 * a] + 1; // >= 0: corners from ext - 1/2
+    }
+    return (k[2] * (2 * en[1] + 2) + k[1]) * (2 * en[0] + 2) + k[0];
+  };
+  std::unordered_map<std::int64_t, vtkIdType> pointOfCorner;
   for (std::size_t l = 0; l < boxes.size(); ++l)
   {
     // One voxel around the box decides every face of the label; the copy
@@ -587,11 +681,56 @@ int vtkDigitalSurfaceFilter::ExecuteEachLabel(vtkImageData* input, vtkDataArray*
       vtkErrorMacro("EachLabel: label " << boxes[l].Label << " gave no surface.");
       return 0;
     }
+    vtkNew<vtkIdTypeArray> partConn;
+    polys->ExportLegacyFormat(partConn);
+    vtkCellData* cd = part->GetCellData();
+    if (interfaces)
+    {
+      vtkDataArray* partVoxels = cd->GetArray("InsideVoxel");
+      vtkDataArray* partDirections = cd->GetArray("SurfelDirection");
+      vtkDataArray* partNormals = cd->GetArray("Normals");
+      for (vtkIdType c = 0; c < part->GetNumberOfCells(); ++c)
+      {
+        int v[3], o[3];
+        for (int a = 0; a < 3; ++a)
+        {
+          v[a] = o[a] = static_cast<int>(partVoxels->GetComponent(c, a));
+        }
+        const int d = static_cast<int>(partDirections->GetTuple1(c));
+        o[d / 2] += (d & 1) ? 1 : -1;
+        const long long other = labelAt(o);
+        if (other > boxes[l].Label)
+        {
+          continue; // the larger label's face
+        }
+        for (int q = 0; q < 4; ++q)
+        {
+          double x[3];
+          part->GetPoint(partConn->GetValue(5 * c + 1 + q), x);
+          auto it = pointOfCorner.find(cornerKey(x));
+          if (it == pointOfCorner.end())
+          {
+            it = pointOfCorner.emplace(cornerKey(x), points->InsertNextPoint(x)).first;
+          }
+          connectivity->InsertNextValue(it->second);
+        }
+        offsets->InsertNextValue(connectivity->GetNumberOfValues());
+        normals->InsertNextTuple(partNormals->GetTuple3(c));
+        voxels->InsertNextTuple3(v[0], v[1], v[2]);
+        directions->InsertNextValue(static_cast<unsigned char>(d));
+        labels->InsertNextValue(static_cast<int>(boxes[l].Label));
+        outsideLabels->InsertNextValue(static_cast<int>(other));
+      }
+      this->UpdateProgress(static_cast<double>(l + 1) / boxes.size());
+      if (this->GetAbortExecute())
+      {
+        return this->Abort->Abort(outputVector);
+      }
+      continue;
+    }
     const vtkIdType base = points->GetNumberOfPoints();
     const vtkIdType cellBase = connectivity->GetNumberOfValues();
     points->InsertPoints(base, part->GetNumberOfPoints(), 0, part->GetPoints());
-    vtkNew<vtkIdTypeArray> partConn;
-    polys->ExportLegacyFormat(partConn);
     // Legacy format: 4, a, b, c, d per quad.
     for (vtkIdType c = 0; c < polys->GetNumberOfCells(); ++c)
     {
@@ -601,11 +740,11 @@ int vtkDigitalSurfaceFilter::ExecuteEachLabel(vtkImageData* input, vtkDataArray*
       }
       offsets->InsertNextValue(cellBase + 4 * (c + 1));
     }
-    vtkCellData* cd = part->GetCellData();
     const vtkIdType n = part->GetNumberOfCells();
     normals->InsertTuples(normals->GetNumberOfTuples(), n, 0, cd->GetArray("Normals"));
     voxels->InsertTuples(voxels->GetNumberOfTuples(), n, 0, cd->GetArray("InsideVoxel"));
-    directions->InsertTuples(directions->GetNumberOfTuples(), n, 0, cd->GetArray("SurfelDirection"));
+    directions->InsertTuples(
+      directions->GetNumberOfTuples(), n, 0, cd->GetArray("SurfelDirection"));
     for (vtkIdType c = 0; c < n; ++c)
     {
       labels->InsertNextValue(static_cast<int>(boxes[l].Label));
@@ -624,6 +763,14 @@ int vtkDigitalSurfaceFilter::ExecuteEachLabel(vtkImageData* input, vtkDataArray*
   output->GetCellData()->AddArray(voxels);
   output->GetCellData()->AddArray(directions);
   output->GetCellData()->AddArray(labels);
+  if (interfaces)
+  {
+    vtkNew<vtkIntArray> inside;
+    inside->DeepCopy(labels);
+    inside->SetName("LabelInside");
+    output->GetCellData()->AddArray(inside);
+    output->GetCellData()->AddArray(outsideLabels);
+  }
 
   // The whole image's record, as in the other modes: the estimators check it.
   vtkNew<vtkIntArray> extArray;
@@ -652,7 +799,7 @@ int vtkDigitalSurfaceFilter::ExecuteEachLabel(vtkImageData* input, vtkDataArray*
 void vtkDigitalSurfaceFilter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  const char* modes[] = { "NonZero", "Range", "Label", "EachLabel" };
+  const char* modes[] = { "NonZero", "Range", "Label", "EachLabel", "Interfaces" };
   os << indent << "SelectionMode: " << modes[this->SelectionMode] << "\n";
   os << indent << "LowerThreshold: " << this->LowerThreshold << "\n";
   os << indent << "UpperThreshold: " << this->UpperThreshold << "\n";

@@ -70,6 +70,18 @@
  * spec that selects no label present is an error that lists the labels
  * there. One piece only (a distributed request is refused), no GlobalIds.
  *
+ * Interfaces (label maps' shared boundaries, docs/labels.md): every face
+ * between two different selected labels, or between a selected label and
+ * anything else (background, unselected labels, the image's outside), once,
+ * oriented out of the larger label, with the cell data "LabelInside" (the
+ * larger label; also written as "Label", so that vtkIINormalEstimator in
+ * EachLabel mode estimates each face with its inside label's voxels) and
+ * "LabelOutside" (0 for background). Points are merged by voxel corner, so
+ * the output is one complex, non-manifold where three or more labels meet
+ * (3 or 4 faces on an edge): the AT filter smooths each shared boundary
+ * once and keeps those lines as features. Same Labels, pieces and GlobalIds
+ * rules as EachLabel.
+ *
  * The extraction runs in parallel with vtkSMPTools and its output does not
  * depend on the number of threads. Memory: one byte per voxel for the
  * selection mask, plus the output.
@@ -103,24 +115,26 @@ public:
     NON_ZERO = 0,
     RANGE = 1,
     LABEL = 2,
-    EACH_LABEL = 3
+    EACH_LABEL = 3,
+    INTERFACES = 4
   };
 
   ///@{
   /**
    * How inside voxels are selected (default NON_ZERO).
    */
-  vtkSetClampMacro(SelectionMode, int, NON_ZERO, EACH_LABEL);
+  vtkSetClampMacro(SelectionMode, int, NON_ZERO, INTERFACES);
   vtkGetMacro(SelectionMode, int);
   void SetSelectionModeToNonZero() { this->SetSelectionMode(NON_ZERO); }
   void SetSelectionModeToRange() { this->SetSelectionMode(RANGE); }
   void SetSelectionModeToLabel() { this->SetSelectionMode(LABEL); }
   void SetSelectionModeToEachLabel() { this->SetSelectionMode(EACH_LABEL); }
+  void SetSelectionModeToInterfaces() { this->SetSelectionMode(INTERFACES); }
   ///@}
 
   ///@{
   /**
-   * The labels EACH_LABEL mode extracts (default "all": every non-zero
+   * The labels EACH_LABEL and INTERFACES modes extract (default "all": every non-zero
    * value): labels and inclusive ranges separated by commas, "1,4,10-12",
    * as the program's --labels.
    */
@@ -206,9 +220,13 @@ protected:
   bool GenerateGlobalIds = false;
   char* Labels = nullptr;
 
-  // EACH_LABEL: every selected label's surface on its own box, appended.
-  int ExecuteEachLabel(vtkImageData* input, vtkDataArray* scalars, const int whole[6],
-    vtkPolyData* output, vtkInformationVector* outputVector);
+  // EACH_LABEL: every selected label's surface on its own box, appended;
+  // INTERFACES: the faces between labels once, on shared points.
+  int ExecuteEachLabel(vtkImageData* input,
+    vtkDataArray* scalars,
+    const int whole[6],
+    vtkPolyData* output,
+    vtkInformationVector* outputVector);
 
 private:
   std::unique_ptr<dg::PipelineAbort> Abort;

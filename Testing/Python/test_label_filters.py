@@ -194,6 +194,31 @@ for b, L in enumerate(LABELS):
               "block %d keeps its cells' data" % b)
 
 
+# Interfaces: each face between two different values (labels or background,
+# the image's outside included) once, out of the larger label, on shared
+# points; II in EachLabel mode gives each face its inside label's normal, the
+# same as that label's own EachLabel surface.
+inter = surface(vtkDigitalSurfaceFilter.INTERFACES)
+padded = np.pad(data, 1)
+pairs = sum(int((np.diff(padded, axis=a) != 0).sum()) for a in range(3))
+ins, outs = cell_array(inter, "LabelInside"), cell_array(inter, "LabelOutside")
+check(inter.GetNumberOfCells() == pairs, "Interfaces: one face per pair of different neighbours (%d, %d)"
+      % (inter.GetNumberOfCells(), pairs))
+check(bool(np.all(ins > outs)) and np.array_equal(ins, cell_array(inter, "Label")),
+      "Interfaces: LabelInside > LabelOutside, Label = LabelInside")
+ipts = vtk_to_numpy(inter.GetPoints().GetData())
+check(len(np.unique(np.round(ipts, 9), axis=0)) == len(ipts), "Interfaces: every voxel corner once (shared points)")
+ivox = vtk_to_numpy(inter.GetCellData().GetArray("InsideVoxel"))
+idir = cell_array(inter, "SurfelDirection")
+inorm = vtk_to_numpy(ii(inter, EACH)[0].GetCellData().GetArray("IINormals"))
+cvox = vtk_to_numpy(combined.GetCellData().GetArray("InsideVoxel"))
+cnorm = vtk_to_numpy(ii(combined, EACH)[0].GetCellData().GetArray("IINormals"))
+where = {(int(L), tuple(v), int(d)): c for c, (L, v, d) in
+         enumerate(zip(label_of, cvox.tolist(), cell_array(combined, "SurfelDirection")))}
+match = [where.get((int(L), tuple(v), int(d))) for L, v, d in zip(ins, ivox.tolist(), idir)]
+check(None not in match and np.array_equal(inorm, cnorm[match]),
+      "Interfaces: each face's II normal is its inside label's, bit for bit")
+
 # Bad inputs: one clear error and an empty output.
 def errors_of(f):
     errors = []
