@@ -262,4 +262,22 @@ vtkSmartPointer<vtkImageData> CropImage(
   return out;
 }
 
+bool LabelComponent(vtkDataArray* scalars, int selected, int& component, std::string& error)
+{
+  if (!scalars)
+  {
+    error = "the image has no point scalars to read labels from";
+    return false;
+  }
+  const int nc = scalars->GetNumberOfComponents();
+  component = selected < 0 && nc == 1 ? 0 : selected;
+  if (component < 0 || component >= nc)
+  {
+    error = "array has " + std::to_string(nc) + " components, SelectedComponent is " +
+      std::to_string(selected);
+    return false;
+  }
+  return true;
+}
+
 } // namespace dg

@@ -42,6 +42,11 @@ struct LabelBox
 bool FindLabels(vtkDataArray* scalars, int component, const int extent[6], const LabelSpec& spec,
   std::vector<LabelBox>& labels, std::string& error);
 
+/// The component of `scalars` that holds the labels: `selected`, or 0 when
+/// selected is -1 and the array has one component. False with the one-line
+/// reason (no array, a component out of range) otherwise.
+bool LabelComponent(vtkDataArray* scalars, int selected, int& component, std::string& error);
+
 /// The same on the image's active scalars, which must have one component.
 bool FindLabels(vtkImageData* image, const LabelSpec& spec, std::vector<LabelBox>& labels,
   std::string& error);

@@ -568,18 +568,14 @@ int vtkDigitalSurfaceFilter::ExecuteEachLabel(vtkImageData* input,
   vtkPolyData* output,
   vtkInformationVector* outputVector)
 {
-  if (!scalars)
+  int component = 0;
   {
-    vtkErrorMacro("Cannot select voxels: the image has no point scalars to read labels from.");
-    return 0;
-  }
-  const int nc = scalars->GetNumberOfComponents();
-  const int component = this->SelectedComponent < 0 && nc == 1 ? 0 : this->SelectedComponent;
-  if (component < 0 || component >= nc)
-  {
-    vtkErrorMacro("Cannot select voxels: array has " << nc << " components, SelectedComponent is "
-                                                     << this->SelectedComponent << ".");
-    return 0;
+    std::string why;
+    if (!dg::LabelComponent(scalars, this->SelectedComponent, component, why))
+    {
+      vtkErrorMacro("Cannot select voxels: " << why << ".");
+      return 0;
+    }
   }
   int ext[6];
   input->GetExtent(ext);
