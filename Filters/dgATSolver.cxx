@@ -272,7 +272,8 @@ bool ATSolver::StepU()
   if (!this->USystem)
   {
     this->USystem = this->Distribution
-      ? MakeICSystem(this->Params.CGTolerance, this->Params.CGMaximumIterations, this->Distribution, 0)
+      ? MakeICSystem(this->Params.CGTolerance, this->Params.CGMaximumIterations,
+          this->Distribution, 0, this->Params.CGSinglePrecision)
       : MakeATLinearSystem(this->Params);
   }
   auto t0 = Clock::now();
@@ -289,7 +290,8 @@ bool ATSolver::StepV(double epsilon)
   if (!this->VSystem)
   {
     this->VSystem = this->Distribution
-      ? MakeICSystem(this->Params.CGTolerance, this->Params.CGMaximumIterations, this->Distribution, 1)
+      ? MakeICSystem(this->Params.CGTolerance, this->Params.CGMaximumIterations,
+          this->Distribution, 1, this->Params.CGSinglePrecision)
       : MakeATLinearSystem(this->Params);
   }
   auto t0 = Clock::now();

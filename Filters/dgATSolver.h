@@ -85,6 +85,9 @@ struct ATParameters
   ATLinearSolver Solver = ATLinearSolver::ConjugateGradientIC;
   double CGTolerance = 1e-5; // relative residual per right-hand side (see above)
   int CGMaximumIterations = 5000;
+  // ConjugateGradientIC stores r, p, q and z in float (x, the matrix and
+  // every sum in double): fewer bytes per iteration (see dgATICSystem.cxx).
+  bool CGSinglePrecision = true;
 
   /// Empty when valid, else what is wrong.
   std::string Check() const;
@@ -128,6 +131,7 @@ public:
   /// Overwrites the ghost rows (from Owned(kind) on) of x, `nc` interleaved
   /// values per row, with their owners' values. kind 0: faces (u), 1: vertices (v).
   virtual void UpdateGhosts(int kind, double* x, int nc) const = 0;
+  virtual void UpdateGhosts(int kind, float* x, int nc) const = 0;
   virtual std::int64_t Owned(int kind) const = 0;
 };
 
