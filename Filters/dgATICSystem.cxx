@@ -24,10 +24,11 @@ namespace
 // same iteration count.
 //
 // So are, by default (ATParameters::CGSinglePrecision), the CG vectors r, p,
-// q and z; x, the matrix and every sum (accumulated in double) are not. The
-// solve is memory-bound, and this cuts the bytes per iteration from 396 to
-// 276 per row of the u-system (3 columns) and from 204 to 164 for v, and
-// the CG vectors' memory from 160 to 96 bytes per surfel. On the real
+// q and z; x, the matrix and every sum (accumulated in double) are not.
+// This cuts the CG vectors' memory from 160 to 96 bytes per surfel and the
+// bytes per iteration from 396 to 276 per row of the u-system (3 columns)
+// and from 204 to 164 for v; on a quiet machine it saved no time (the
+// sweeps then run at 3.4x the bandwidth floor, docs/at-speed.md). On the real
 // pipeline's input (BenchATPipeline) the CG iteration counts are the same
 // (octa-flower 223 / 340, fandisk-256 216 / 252) and the accuracy budget's
 // figures against LDL^T the same to three digits. Tight tolerances are
