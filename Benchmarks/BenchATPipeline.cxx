@@ -10,10 +10,12 @@
 // keeps the synthetic stand-in input and the solver comparison.
 //
 // Usage: BenchATPipeline [runs] [volumes...] [--dgtal] [--check] [--exact]
-//                        [--tolerance T]
+//                        [--tolerance T] [--vfactor F] [--double] [--dv]
 //   --exact compares the first run with SimplicialLDLT on the same schedule
 //   (the accuracy budget); --tolerance sets the CG tolerance (default: the
-//   ATParameters default).
+//   ATParameters default), --vfactor the v-system's multiple of it; --double keeps CG's r, p, q, z in double
+//   (ATParameters::CGSinglePrecision off); --dv prints, for the first run,
+//   every step's CG iterations and max |v - v_prev| (the stopping rule's test).
 //   A volume is a name in the shared volgallery (fandisk-128) or a path,
 //   with "x2" appended for the volume upsampled 2x (octa-flower17k-512x2:
 //   1024^3); with 3 volumes or more, the growth exponent with the surface is
@@ -191,24 +193,28 @@ std::int64_t ICLowerEntries(const dg::ATSystemMatrix& m, std::int64_t* blocks)
 // it is read in and once per pass it is written in (a floor: the backward
 // sweep's re-read of z and the gathers of neighbours' z are taken as cache
 // hits; writes are counted without write-allocate, as STREAM counts them):
-//   vectors  8 nc n (7 + 5): pass 1 reads x r p q, writes x r z; pass 2
-//            reads z p q, writes p q;
+//   vectors  nc n (8 (1 + 1) + s (3 + 2 + 5)), s the bytes of r, p, q, z
+//            (4 in float, the default; 8 with --double), x in double:
+//            pass 1 reads x r p q, writes x r z; pass 2 reads z p q,
+//            writes p q;
 //   matrix   12 nnz + 4 (n + 1): double values, int row indices, int column
 //            starts (stored full, column major = row major by symmetry);
 //   factor   16 nL + 8 (n + 1) + 4 n: float values and int columns of L and
 //            of its transposed copy U, int row starts of both, float D^-1.
-// B = 96 nc n + 12 nnz + 4 (n + 1) + 16 nL + 8 (n + 1) + 4 n.
+// B = (16 + 10 s) nc n + 12 nnz + 4 (n + 1) + 16 nL + 8 (n + 1) + 4 n
+//   (56 nc n for the vectors in float, 96 nc n in double).
 // Per solve, outside B: r = b - A x (matrix, x read, r read and written),
-// the first preconditioning (r read, z written, the factor), Interleave of x
-// and b and Deinterleave of x (6 nc n doubles); the first NextDirection takes
+// the first preconditioning (r read, z written, the factor), Interleave and
+// Deinterleave of x (4 nc n doubles); the first NextDirection takes
 // the place of the one the last iteration skips:
-// S = 12 nnz + 4 (n + 1) + 16 nL + 8 (n + 1) + 4 n + 8 nc n (3 + 2 + 6).
+// S = 12 nnz + 4 (n + 1) + 16 nL + 8 (n + 1) + 4 n + nc n (8 (2 + 4) + 3 s)
+//   (x and b read, r written; r read, z written; x interleaved and back).
 struct SystemBytes
 {
   std::int64_t N = 0, Nnz = 0, NL = 0, Blocks = 0;
   int NC = 0;
   double PerIteration = 0, PerSolveSetup = 0;
-  void Set(const dg::ATSystemMatrix& m, int nc)
+  void Set(const dg::ATSystemMatrix& m, int nc, int s)
   {
     this->N = m.cols();
     this->Nnz = m.nonZeros();
@@ -218,8 +224,8 @@ struct SystemBytes
                  nl = static_cast<double>(this->NL);
     const double matrix = 12 * nnz + 4 * (n + 1);
     const double factor = 16 * nl + 8 * (n + 1) + 4 * n;
-    this->PerIteration = 96.0 * nc * n + matrix + factor;
-    this->PerSolveSetup = matrix + factor + 8.0 * nc * n * 11;
+    this->PerIteration = (16.0 + 10.0 * s) * nc * n + matrix + factor;
+    this->PerSolveSetup = matrix + factor + (48.0 + 3.0 * s) * nc * n;
   }
 };
 
@@ -261,9 +267,17 @@ double Exponent(const std::vector<double>& x, const std::vector<double>& y)
   return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
 
+double CpuSeconds()
+{
+  rusage ru;
+  getrusage(RUSAGE_SELF, &ru);
+  return ru.ru_utime.tv_sec + ru.ru_stime.tv_sec + 1e-6 * (ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
+}
+
 struct RealRun
 {
   double Surface = 0, II = 0, Prep = 0, Complex = 0, Run = 0, AT = 0;
+  double ATCpu = 0; // user + system seconds of all threads during AT
   dg::ATStatistics Stats;
   std::vector<std::int64_t> ItU, ItV; // CG iterations of each u and v solve
   double RssBefore = 0, PeakDuring = 0; // MiB
@@ -310,8 +324,8 @@ std::string CGText(const std::vector<std::int64_t>& v)
 int main(int argc, char* argv[])
 {
   int runs = 3;
-  bool dgtal = false, check = false, exact = false;
-  double cgTolerance = 0;
+  bool dgtal = false, check = false, exact = false, doublePrecision = false, printDv = false;
+  double cgTolerance = 0, vFactor = 0;
   std::vector<std::string> volumes;
   for (int i = 1; i < argc; ++i)
   {
@@ -324,6 +338,12 @@ int main(int argc, char* argv[])
       exact = true;
     else if (a == "--tolerance" && i + 1 < argc)
       cgTolerance = std::atof(argv[++i]);
+    else if (a == "--double")
+      doublePrecision = true;
+    else if (a == "--dv")
+      printDv = true;
+    else if (a == "--vfactor" && i + 1 < argc)
+      vFactor = std::atof(argv[++i]);
     else if (i == 1 && !a.empty() && std::isdigit(static_cast<unsigned char>(a[0])))
       runs = std::max(1, std::atoi(a.c_str()));
     else
@@ -347,6 +367,11 @@ int main(int argc, char* argv[])
   {
     params.CGTolerance = cgTolerance;
   }
+  params.CGSinglePrecision = !doublePrecision;
+  if (vFactor > 0)
+  {
+    params.CGToleranceVFactor = vFactor;
+  }
   // As vtkAmbrosioTortorelliFilter::RequestData: it normalises the outputs,
   // not the core's u.
   params.Normalize = false;
@@ -356,10 +381,11 @@ int main(int argc, char* argv[])
   const char* env = std::getenv("VTK_SMP_BACKEND_IN_USE");
   std::printf("BenchATPipeline: %d runs each (medians), %s parameters: alpha %g, lambda %g, "
               "eps %g -> %g by %g, <= %d iterations per level, tolerance %g, solver %s, "
-              "CG tolerance %g\n",
+              "CG tolerance %g (v: x %g), %s precision\n",
     runs, dgtal ? "DGtal's" : "the paper's", params.Alpha, params.Lambda, params.EpsilonStart,
     params.EpsilonEnd, params.EpsilonRatio, params.MaximumIterations, params.Tolerance,
-    dg::ATLinearSolverName(params.Solver), params.CGTolerance);
+    dg::ATLinearSolverName(params.Solver), params.CGTolerance, params.CGToleranceVFactor,
+    params.CGSinglePrecision ? "single" : "double");
   std::printf("machine: %s, nproc %ld, CPU %s\n", host, sysconf(_SC_NPROCESSORS_ONLN),
     CpuModel().c_str());
   std::printf("VTK_SMP_BACKEND_IN_USE=%s, vtkSMPTools backend %s, %d threads\n",
@@ -446,6 +472,7 @@ int main(int argc, char* argv[])
       malloc_trim(0);
       run.RssBefore = StatusMiB("VmRSS");
       hwm = hwm && ResetPeakRss();
+      const double cpu0 = CpuSeconds();
       t0 = Clock::now();
       vtkCellArray* polys = input->GetPolys();
       const vtkIdType nFaces = polys->GetNumberOfCells();
@@ -505,10 +532,19 @@ int main(int argc, char* argv[])
       // the counters' differences are the CG iterations of that u solve and
       // of that v solve (the core is not changed for this).
       std::int64_t seenU = 0, seenV = 0;
+      Eigen::VectorXd vSeen = Eigen::VectorXd::Ones(complex.NumberOfVertices());
       t0 = Clock::now();
       const bool ok = solver.Run(g, [&](double) {
         const dg::ATStatistics& st = solver.Statistics();
         const std::int64_t u = st.CGIterationsU, v = st.CGIterations - st.CGIterationsU;
+        if (printDv && r == 0)
+        {
+          // What the per-level stopping rule (ATParameters::Tolerance) sees.
+          std::printf("  step %zu: CG u %lld, v %lld, max |v - v_prev| %.3e\n", run.ItU.size() + 1,
+            static_cast<long long>(u - seenU), static_cast<long long>(v - seenV),
+            (solver.V() - vSeen).lpNorm<Eigen::Infinity>());
+          vSeen = solver.V();
+        }
         run.ItU.push_back(u - seenU);
         run.ItV.push_back(v - seenV);
         seenU = u;
@@ -517,6 +553,7 @@ int main(int argc, char* argv[])
       });
       run.Run = Seconds(t0);
       run.AT = run.Prep + run.Complex + run.Run;
+      run.ATCpu = CpuSeconds() - cpu0;
       {
         rusage ru;
         getrusage(RUSAGE_SELF, &ru);
@@ -533,8 +570,9 @@ int main(int argc, char* argv[])
         vr.Faces = complex.NumberOfFaces();
         vr.Edges = complex.NumberOfEdges();
         vr.Vertices = complex.NumberOfVertices();
-        vr.U.Set(solver.UMatrix(), nc);
-        vr.V.Set(solver.VMatrix(), 1);
+        const int s = params.CGSinglePrecision ? 4 : 8;
+        vr.U.Set(solver.UMatrix(), nc, s);
+        vr.V.Set(solver.VMatrix(), 1, s);
         complex.Memory(vr.Memory);
         solver.Memory(vr.Memory);
         vr.InputCopy = static_cast<std::size_t>(g.size()) * sizeof(double);
@@ -626,9 +664,10 @@ int main(int argc, char* argv[])
     getrusage(RUSAGE_SELF, &ru);
     vr.ProcessPeak = ru.ru_maxrss / 1024.0;
     std::printf("  %lld surfels (faces), %lld edges, %lld vertices; %d levels; runs bitwise "
-                "identical (u, v, CG counts): %s\n",
+                "identical (u, v, CG counts): %s; AT CPU time (user + sys) %.3f s\n",
       static_cast<long long>(vr.Faces), static_cast<long long>(vr.Edges),
-      static_cast<long long>(vr.Vertices), r0.Stats.Levels, vr.Deterministic ? "yes" : "NO");
+      static_cast<long long>(vr.Vertices), r0.Stats.Levels, vr.Deterministic ? "yes" : "NO",
+      med(&RealRun::ATCpu));
     std::printf("  peak memory (getrusage ru_maxrss, whole process so far) %.0f MiB; AT+ = AT's "
                 "peak (%s) - RSS before AT, per surfel in B/surfel\n",
       vr.ProcessPeak, hwm ? "VmHWM reset before AT" : "ru_maxrss: VmHWM reset unavailable");
@@ -710,11 +749,11 @@ int main(int argc, char* argv[])
               "(median %.2f GB/s)\n",
     triadN * 8.0 / 1048576.0, vtkSMPTools::GetEstimatedNumberOfThreads(), triad, triadMedian);
   std::printf("floor = CG iterations x bytes per iteration / triad (best); bytes per iteration "
-              "B = 96 nc n + 12 nnz + 4 (n+1) + 16 nL + 8 (n+1) + 4 n\n"
-              "  (CG vectors: 12 transfers of n x nc doubles in the two passes; matrix values, "
+              "B = (16 + 10 s) nc n + 12 nnz + 4 (n+1) + 16 nL + 8 (n+1) + 4 n\n"
+              "  (CG vectors: x in double, 2 transfers; r, p, q, z of s bytes (4: float), 10 transfers; matrix values, "
               "row indices, column starts; IC factor L and U in float + int,\n"
               "  row starts, float D^-1); 'floor+setup' adds per solve S = 12 nnz + 4 (n+1) + "
-              "16 nL + 8 (n+1) + 4 n + 88 nc n (residual, first preconditioning, (de)interleaving).\n");
+              "16 nL + 8 (n+1) + 4 n + (48 + 3 s) nc n (residual, first preconditioning, (de)interleaving).\n");
   std::printf("  %-20s %8s %8s %8s %9s %9s %8s %7s %9s %7s %8s %8s\n", "volume", "solve s",
     "CGits u", "CGits v", "MB/it u", "MB/it v", "floor s", "ratio", "floor+set", "ratio",
     "factor s", "GB/s eff");

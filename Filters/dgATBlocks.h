@@ -63,10 +63,10 @@ inline void ReduceBlocks(const std::vector<double>& partial, std::int64_t nb, in
 // y_i = sum_k a_ik w_k for all nc columns of a column-interleaved w. With NC
 // fixed the sums stay in registers (y may alias w as far as the compiler
 // knows); a dynamic column count accumulates in y itself.
-template<int NC>
+template<int NC, class T>
 inline void RowProduct(const ATSystemMatrix& m,
   std::int64_t i,
-  const double* w,
+  const T* w,
   double* y,
   int ncRun)
 {
@@ -83,10 +83,10 @@ inline void RowProduct(const ATSystemMatrix& m,
   for (int k = outer[i]; k < outer[i + 1]; ++k)
   {
     const double a = val[k];
-    const double* wk = w + static_cast<std::int64_t>(inner[k]) * nc;
+    const T* wk = w + static_cast<std::int64_t>(inner[k]) * nc;
     for (int c = 0; c < nc; ++c)
     {
-      t[c] += a * wk[c];
+      t[c] += a * static_cast<double>(wk[c]);
     }
   }
   for (int c = 0; NC > 0 && c < nc; ++c)

@@ -445,8 +445,19 @@ bool ATHalo::AllOk(bool ok) const
 
 void ATHalo::UpdateGhosts(int kind, double* x, int nc) const
 {
+  this->UpdateGhostsOf(kind, x, nc);
+}
+
+void ATHalo::UpdateGhosts(int kind, float* x, int nc) const
+{
+  this->UpdateGhostsOf(kind, x, nc);
+}
+
+template<class T>
+void ATHalo::UpdateGhostsOf(int kind, T* x, int nc) const
+{
   const Lists& l = this->Halo[kind];
-  std::vector<double> sendBuffer, receiveBuffer;
+  std::vector<T> sendBuffer, receiveBuffer;
   for (int q : l.Partners)
   {
     const auto& send = l.Send[q];
@@ -457,7 +468,7 @@ void ATHalo::UpdateGhosts(int kind, double* x, int nc) const
       std::copy(x + send[i] * nc, x + (send[i] + 1) * nc, sendBuffer.data() + i * nc);
     }
     receiveBuffer.resize(receive.size() * nc);
-    PairStep<double>(
+    PairStep<T>(
       this->Rank, q,
       [&] {
         if (!sendBuffer.empty())

@@ -49,6 +49,7 @@ public:
   double MaxAll(double value) const override;
   bool AllOk(bool ok) const override;
   void UpdateGhosts(int kind, double* x, int nc) const override;
+  void UpdateGhosts(int kind, float* x, int nc) const override;
   std::int64_t Owned(int kind) const override { return kind == 0 ? this->OwnedFaces : this->OwnedVertices; }
 
   /// Values exchanged per halo update of one column, both kinds (for the
@@ -62,6 +63,8 @@ public:
     const std::vector<std::vector<std::int64_t>>& out) const;
 
 private:
+  template<class T>
+  void UpdateGhostsOf(int kind, T* x, int nc) const;
   vtkMultiProcessController* Controller;
   // Per kind: for each partner process (ascending), the rows sent to it and
   // the ghost rows filled from it.

@@ -19,10 +19,20 @@ namespace
 // diagonals (H-matrices), for which IC(0) exists; should rounding still give
 // a pivot <= 0, that solve falls back to the diagonal (Jacobi). The factor
 // is refreshed at every step (numeric only: pattern and index maps once).
-// The factor is stored in single precision: it only preconditions (the
-// iterates, residuals and products stay in double, so the solution's
-// accuracy is the same), and reading half the bytes saved 7 % of the solve
-// time on octa-flower at the same iteration count.
+// The factor is stored in single precision: it only preconditions, and
+// reading half the bytes saved 7 % of the solve time on octa-flower at the
+// same iteration count.
+//
+// So are, by default (ATParameters::CGSinglePrecision), the CG vectors r, p,
+// q and z; x, the matrix and every sum (accumulated in double) are not.
+// This cuts the CG vectors' memory from 160 to 96 bytes per surfel and the
+// bytes per iteration from 396 to 276 per row of the u-system (3 columns)
+// and from 204 to 164 for v; on a quiet machine it saved no time (the
+// sweeps then run at 3.4x the bandwidth floor, docs/at-speed.md). On the real
+// pipeline's input (BenchATPipeline) the CG iteration counts are the same
+// (octa-flower 223 / 340, fandisk-256 216 / 252) and the accuracy budget's
+// figures against LDL^T the same to three digits. Tight tolerances are
+// kept by a check of the true residual (FloatCheckTolerance below).
 //
 // Block size: about 8 blocks (for the threads to share), each of 16 384 to
 // 65 536 rows. Larger blocks drop fewer couplings: on octa-flower (671 270
@@ -30,6 +40,14 @@ namespace
 // with 65k, at the same cost per iteration.
 constexpr std::int64_t ICMinBlockRows = 16384, ICMaxBlockRows = 65536, ICTargetBlocks = 8;
 
+// Float vectors: the true residual is checked below this CG tolerance, and
+// the solve restarted from it at most MaxRestarts times (see SolveN).
+constexpr double FloatCheckTolerance = 1e-6;
+constexpr int MaxRestarts = 3;
+
+// S stores the CG vectors r, p, q and z (float or double); x and every sum
+// stay in double. See MakeICSystem for why float.
+template<class S>
 class ICSystem : public ATLinearSystem
 {
 public:
@@ -54,7 +72,8 @@ public:
       this->Dist->SumAll(v, count);
     }
   }
-  void Ghosts(std::vector<double>& x, int nc) const
+  template<class T>
+  void Ghosts(std::vector<T>& x, int nc) const
   {
     if (this->Dist)
     {
@@ -232,10 +251,10 @@ public:
   void UpdateAndPrecondition(bool update,
     const double* alpha,
     std::vector<double>& x,
-    const std::vector<double>& p,
-    std::vector<double>& r,
-    const std::vector<double>& q,
-    std::vector<double>& z,
+    const std::vector<S>& p,
+    std::vector<S>& r,
+    const std::vector<S>& q,
+    std::vector<S>& z,
     int ncRun,
     double* rr,
     double* rz)
@@ -265,7 +284,8 @@ public:
         {
           x[ic] += a[c] * p[ic];
           ri -= a[c] * q[ic];
-          r[ic] = ri;
+          r[ic] = static_cast<S>(ri);
+          ri = r[ic];
         }
         s[c] += ri * ri;
         t[c] = ri;
@@ -273,22 +293,22 @@ public:
       for (std::int64_t kk = this->LPtr[i]; kk < this->LPtr[i + 1]; ++kk)
       {
         const double l = this->LVal[kk];
-        const double* zj = z.data() + static_cast<std::int64_t>(this->LCol[kk]) * nc;
+        const S* zj = z.data() + static_cast<std::int64_t>(this->LCol[kk]) * nc;
         for (int c = 0; c < nc; ++c)
         {
           t[c] -= l * zj[c];
         }
       }
-      double* zi = z.data() + i * nc;
+      S* zi = z.data() + i * nc;
       for (int c = 0; c < nc; ++c)
       {
-        zi[c] = t[c];
+        zi[c] = static_cast<S>(t[c]);
         s[nc + c] += t[c] * t[c] * this->InvD[i];
       }
     };
     auto backward = [&](std::int64_t i, double* t)
     {
-      double* zi = z.data() + i * nc;
+      S* zi = z.data() + i * nc;
       const double di = this->InvD[i];
       for (int c = 0; c < nc; ++c)
       {
@@ -297,7 +317,7 @@ public:
       for (std::int64_t u = this->UPtr[i]; u < this->UPtr[i + 1]; ++u)
       {
         const double l = this->UVal[u];
-        const double* zj = z.data() + static_cast<std::int64_t>(this->UCol[u]) * nc;
+        const S* zj = z.data() + static_cast<std::int64_t>(this->UCol[u]) * nc;
         for (int c = 0; c < nc; ++c)
         {
           t[c] -= l * zj[c];
@@ -305,7 +325,7 @@ public:
       }
       for (int c = 0; c < nc; ++c)
       {
-        zi[c] = t[c];
+        zi[c] = static_cast<S>(t[c]);
       }
     };
     vtkSMPTools::For(0,
@@ -345,9 +365,9 @@ public:
   // (1, 0) for the first direction.
   template<int NC>
   void NextDirection(const ATSystemMatrix& m,
-    const std::vector<double>& z,
-    std::vector<double>& p,
-    std::vector<double>& q,
+    const std::vector<S>& z,
+    std::vector<S>& p,
+    std::vector<S>& q,
     const double* gIn,
     const double* hIn,
     int ncRun,
@@ -357,7 +377,7 @@ public:
     const int nc = NC > 0 ? NC : ncRun;
     const std::int64_t n = this->Rows(m);
     // A z reads z on the ghost rows: their owners' values.
-    this->Ghosts(const_cast<std::vector<double>&>(z), nc);
+    this->Ghosts(const_cast<std::vector<S>&>(z), nc);
     ForBlocks(n,
       [&](std::int64_t blk, std::int64_t i0, std::int64_t i1)
       {
@@ -379,11 +399,12 @@ public:
           for (int c = 0; c < nc; ++c)
           {
             const std::int64_t ic = i * nc + c;
-            const double pi = g[c] * z[ic] + h[c] * p[ic];
-            const double qi = g[c] * w[c] + h[c] * q[ic];
+            // alpha = r.z / p.q must see the p and q that are stored.
+            const S pi = static_cast<S>(g[c] * z[ic] + h[c] * p[ic]);
+            const S qi = static_cast<S>(g[c] * w[c] + h[c] * q[ic]);
             p[ic] = pi;
             q[ic] = qi;
-            s[c] += pi * qi;
+            s[c] += static_cast<double>(pi) * static_cast<double>(qi);
           }
         }
         std::copy(s, s + nc, partial.data() + blk * nc);
@@ -403,10 +424,9 @@ public:
     }
     // Work vectors kept from one solve to the next: fresh ones would cost
     // page faults and zeroing at every step.
-    std::vector<double>&x = this->X, &r = this->R, &p = this->P, &q = this->Q, &z = this->Z;
+    std::vector<double>& x = this->X;
+    std::vector<S>&r = this->R, &p = this->P, &q = this->Q, &z = this->Z;
     Interleave(xOut, x);
-    Interleave(b, r);
-    this->Ghosts(x, nc);
     // Full length: the products read the ghost rows of z.
     p.resize(m.cols() * nc);
     q.resize(m.cols() * nc);
@@ -416,72 +436,95 @@ public:
     std::vector<double> sums(2 * nc);
     std::vector<double> rr(nc), rz(nc), rzNew(nc), pq(nc), bb(nc), alpha(nc, 0.0), g(nc), h(nc);
     std::vector<char> active(nc, 1);
-    // r = b - A x (r holds b on entry); sums of b.b and r.r.
-    ForBlocks(n,
-      [&](std::int64_t blk, std::int64_t i0, std::int64_t i1)
-      {
-        double acc[2 * (NC > 0 ? NC : 16)] = {};
-        std::vector<double> accDyn(NC > 0 ? 0 : 2 * nc, 0.0), y(nc);
-        double* s = NC > 0 ? acc : accDyn.data();
-        for (std::int64_t i = i0; i < i1; ++i)
+    // With p, q, z in float, the recurrence r -= alpha q drifts from the
+    // true residual b - A x by about 1e-7 ||b|| (measured on the operator
+    // tests), far below the default tolerance 1e-5 but not below 1e-8.
+    // Below FloatCheckTolerance, a converged solve is checked against the
+    // true residual and restarted from it when that is still too large.
+    const bool check = sizeof(S) < sizeof(double) && this->Tolerance < FloatCheckTolerance;
+    int it = 0, nActive = 0;
+    for (int restart = 0; restart <= MaxRestarts; ++restart)
+    {
+      r.resize(m.cols() * nc);
+      this->Ghosts(x, nc);
+      // r = b - A x, from b in double; sums of b.b and r.r.
+      const double* bData = b.data();
+      const std::int64_t bRows = b.rows();
+      ForBlocks(n,
+        [&](std::int64_t blk, std::int64_t i0, std::int64_t i1)
         {
-          RowProduct<NC>(m, i, x.data(), y.data(), nc);
-          for (int c = 0; c < nc; ++c)
+          double acc[2 * (NC > 0 ? NC : 16)] = {};
+          std::vector<double> accDyn(NC > 0 ? 0 : 2 * nc, 0.0), y(nc);
+          double* s = NC > 0 ? acc : accDyn.data();
+          for (std::int64_t i = i0; i < i1; ++i)
           {
-            const std::int64_t ic = i * nc + c;
-            const double bic = r[ic], ri = bic - y[c];
-            r[ic] = ri;
-            s[2 * c] += bic * bic;
-            s[2 * c + 1] += ri * ri;
+            RowProduct<NC>(m, i, x.data(), y.data(), nc);
+            for (int c = 0; c < nc; ++c)
+            {
+              const std::int64_t ic = i * nc + c;
+              const double bic = bData[c * bRows + i];
+              r[ic] = static_cast<S>(bic - y[c]);
+              const double ri = r[ic];
+              s[2 * c] += bic * bic;
+              s[2 * c + 1] += ri * ri;
+            }
           }
-        }
-        std::copy(s, s + 2 * nc, partial.data() + blk * 2 * nc);
-      });
-    ReduceBlocks(partial, nb, 2 * nc, sums.data());
-    this->Sum(sums.data(), 2 * nc);
-    const double tol2 = this->Tolerance * this->Tolerance;
-    int nActive = 0;
-    for (int c = 0; c < nc; ++c)
-    {
-      bb[c] = sums[2 * c];
-      active[c] = sums[2 * c + 1] > tol2 * bb[c];
-      nActive += active[c];
-    }
-    int it = 0;
-    if (nActive > 0)
-    {
-      this->UpdateAndPrecondition<NC>(false, alpha.data(), x, p, r, q, z, nc, rr.data(), rz.data());
-      std::fill(g.begin(), g.end(), 1.0);
-      std::fill(h.begin(), h.end(), 0.0);
-      this->NextDirection<NC>(m, z, p, q, g.data(), h.data(), nc, partial, pq.data());
-    }
-    while (nActive > 0 && it < this->MaxIterations)
-    {
-      ++it;
-      for (int c = 0; c < nc; ++c)
-      {
-        if (active[c] && !(pq[c] > 0))
-        {
-          return false; // not positive definite (or NaN)
-        }
-        alpha[c] = active[c] ? rz[c] / pq[c] : 0.0;
-      }
-      this->UpdateAndPrecondition<NC>(
-        true, alpha.data(), x, p, r, q, z, nc, rr.data(), rzNew.data());
+          std::copy(s, s + 2 * nc, partial.data() + blk * 2 * nc);
+        });
+      ReduceBlocks(partial, nb, 2 * nc, sums.data());
+      this->Sum(sums.data(), 2 * nc);
+      const double tol2 = this->Tolerance * this->Tolerance;
       nActive = 0;
       for (int c = 0; c < nc; ++c)
       {
-        active[c] = active[c] && rr[c] > tol2 * bb[c];
+        bb[c] = sums[2 * c];
+        active[c] = sums[2 * c + 1] > tol2 * bb[c];
         nActive += active[c];
-        g[c] = active[c] ? 1.0 : 0.0;
-        h[c] = active[c] ? rzNew[c] / rz[c] : 1.0;
-        rz[c] = active[c] ? rzNew[c] : rz[c];
       }
-      if (nActive == 0)
+      if (nActive == 0 || (restart > 0 && it >= this->MaxIterations))
       {
         break;
       }
-      this->NextDirection<NC>(m, z, p, q, g.data(), h.data(), nc, partial, pq.data());
+      if (nActive > 0)
+      {
+        this->template UpdateAndPrecondition<NC>(
+          false, alpha.data(), x, p, r, q, z, nc, rr.data(), rz.data());
+        std::fill(g.begin(), g.end(), 1.0);
+        std::fill(h.begin(), h.end(), 0.0);
+        this->template NextDirection<NC>(m, z, p, q, g.data(), h.data(), nc, partial, pq.data());
+      }
+      while (nActive > 0 && it < this->MaxIterations)
+      {
+        ++it;
+        for (int c = 0; c < nc; ++c)
+        {
+          if (active[c] && !(pq[c] > 0))
+          {
+            return false; // not positive definite (or NaN)
+          }
+          alpha[c] = active[c] ? rz[c] / pq[c] : 0.0;
+        }
+        this->template UpdateAndPrecondition<NC>(
+          true, alpha.data(), x, p, r, q, z, nc, rr.data(), rzNew.data());
+        nActive = 0;
+        for (int c = 0; c < nc; ++c)
+        {
+          active[c] = active[c] && rr[c] > tol2 * bb[c];
+          nActive += active[c];
+          g[c] = active[c] ? 1.0 : 0.0;
+          h[c] = active[c] ? rzNew[c] / rz[c] : 1.0;
+          rz[c] = active[c] ? rzNew[c] : rz[c];
+        }
+        if (nActive == 0)
+        {
+          break;
+        }
+        this->template NextDirection<NC>(m, z, p, q, g.data(), h.data(), nc, partial, pq.data());
+      }
+      if (!check || nActive > 0)
+      {
+        break;
+      }
     }
     this->Iterations += it;
     bool ok = nActive == 0 && AllFinite(x);
@@ -506,7 +549,8 @@ public:
         bytes(this->UCol) + bytes(this->DPos) + bytes(this->UFromL) + bytes(this->Blocks));
     parts.emplace_back(name + ": IC factor (L, U values, 1/D; float)",
       bytes(this->LVal) + bytes(this->UVal) + bytes(this->InvD));
-    parts.emplace_back(name + ": CG vectors (x, r, p, q, z)",
+    parts.emplace_back(name + (sizeof(S) == 4 ? ": CG vectors (x; r, p, q, z in float)"
+                                              : ": CG vectors (x, r, p, q, z)"),
       bytes(this->X) + bytes(this->R) + bytes(this->P) + bytes(this->Q) + bytes(this->Z) +
         bytes(this->Partial));
   }
@@ -522,14 +566,24 @@ private:
   std::vector<int> LPtr, UPtr;
   std::vector<int> LCol, LPos, UCol, DPos;
   std::vector<float> LVal, UVal, InvD;
-  std::vector<double> Partial, X, R, P, Q, Z;
+  std::vector<double> Partial, X;
+  std::vector<S> R, P, Q, Z;
 };
 } // namespace
 
-std::unique_ptr<ATLinearSystem> MakeICSystem(
-  double tolerance, int maxIterations, const ATDistribution* distribution, int kind)
+std::unique_ptr<ATLinearSystem> MakeICSystem(double tolerance,
+  int maxIterations,
+  const ATDistribution* distribution,
+  int kind,
+  bool singlePrecision)
 {
-  return std::unique_ptr<ATLinearSystem>(new ICSystem(tolerance, maxIterations, distribution, kind));
+  if (singlePrecision)
+  {
+    return std::unique_ptr<ATLinearSystem>(
+      new ICSystem<float>(tolerance, maxIterations, distribution, kind));
+  }
+  return std::unique_ptr<ATLinearSystem>(
+    new ICSystem<double>(tolerance, maxIterations, distribution, kind));
 }
 
 } // namespace dg

@@ -252,7 +252,7 @@ std::unique_ptr<ATLinearSystem> MakeATLinearSystem(const ATParameters& p)
       return nullptr;
 #endif
     case ATLinearSolver::ConjugateGradientIC:
-      return MakeICSystem(p.CGTolerance, p.CGMaximumIterations);
+      return MakeICSystem(p.CGTolerance, p.CGMaximumIterations, nullptr, 0, p.CGSinglePrecision);
     case ATLinearSolver::ConjugateGradient:
     default:
       return std::unique_ptr<ATLinearSystem>(new CGSystem(p.CGTolerance, p.CGMaximumIterations));

@@ -30,9 +30,10 @@ public:
 
 /// Conjugate gradients with block IC(0) (dgATICSystem.cxx).
 /// With a distribution, CG runs over the process's owned rows of system
-/// `kind` (0: u, 1: v), with halo updates and global sums.
+/// `kind` (0: u, 1: v), with halo updates and global sums. singlePrecision
+/// stores CG's residual, search directions and preconditioned residual in float.
 std::unique_ptr<ATLinearSystem> MakeICSystem(double tolerance, int maxIterations,
-  const ATDistribution* distribution = nullptr, int kind = 0);
+  const ATDistribution* distribution = nullptr, int kind = 0, bool singlePrecision = true);
 
 /// The system for p.Solver (null for CHOLMOD in a build without it).
 std::unique_ptr<ATLinearSystem> MakeATLinearSystem(const ATParameters& p);

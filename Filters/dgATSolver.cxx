@@ -74,6 +74,10 @@ std::string ATParameters::Check() const
   {
     s << "CGTolerance must be > 0 and CGMaximumIterations >= 1. ";
   }
+  if (!(this->CGToleranceVFactor > 0) || !std::isfinite(this->CGToleranceVFactor))
+  {
+    s << "CGToleranceVFactor must be finite and > 0 (got " << this->CGToleranceVFactor << "). ";
+  }
   std::string r = s.str();
   if (!r.empty())
   {
@@ -272,7 +276,8 @@ bool ATSolver::StepU()
   if (!this->USystem)
   {
     this->USystem = this->Distribution
-      ? MakeICSystem(this->Params.CGTolerance, this->Params.CGMaximumIterations, this->Distribution, 0)
+      ? MakeICSystem(this->Params.CGTolerance, this->Params.CGMaximumIterations,
+          this->Distribution, 0, this->Params.CGSinglePrecision)
       : MakeATLinearSystem(this->Params);
   }
   auto t0 = Clock::now();
@@ -288,9 +293,12 @@ bool ATSolver::StepV(double epsilon)
 {
   if (!this->VSystem)
   {
+    ATParameters vParams = this->Params;
+    vParams.CGTolerance *= this->Params.CGToleranceVFactor;
     this->VSystem = this->Distribution
-      ? MakeICSystem(this->Params.CGTolerance, this->Params.CGMaximumIterations, this->Distribution, 1)
-      : MakeATLinearSystem(this->Params);
+      ? MakeICSystem(this->Params.CGTolerance * this->Params.CGToleranceVFactor,
+          this->Params.CGMaximumIterations, this->Distribution, 1, this->Params.CGSinglePrecision)
+      : MakeATLinearSystem(vParams);
   }
   auto t0 = Clock::now();
   this->AssembleV(epsilon);

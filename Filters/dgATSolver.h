@@ -84,7 +84,16 @@ struct ATParameters
   bool Normalize = true;     // unit-length u at the end (skip zero vectors)
   ATLinearSolver Solver = ATLinearSolver::ConjugateGradientIC;
   double CGTolerance = 1e-5; // relative residual per right-hand side (see above)
+  // The v-system is solved to CGToleranceVFactor * CGTolerance: v's error
+  // against LDL^T comes mostly from the u-solve. At 3, octa-flower's
+  // v-solves take 291 CG iterations instead of 340 and the budget holds
+  // with a margin of 1.9x or more (fandisk-256's max |dv| 5.2e-4; 10 leaves
+  // 1.3x); docs/at-speed.md.
+  double CGToleranceVFactor = 3.0;
   int CGMaximumIterations = 5000;
+  // ConjugateGradientIC stores r, p, q and z in float (x, the matrix and
+  // every sum in double): fewer bytes per iteration (see dgATICSystem.cxx).
+  bool CGSinglePrecision = true;
 
   /// Empty when valid, else what is wrong.
   std::string Check() const;
@@ -128,6 +137,7 @@ public:
   /// Overwrites the ghost rows (from Owned(kind) on) of x, `nc` interleaved
   /// values per row, with their owners' values. kind 0: faces (u), 1: vertices (v).
   virtual void UpdateGhosts(int kind, double* x, int nc) const = 0;
+  virtual void UpdateGhosts(int kind, float* x, int nc) const = 0;
   virtual std::int64_t Owned(int kind) const = 0;
 };
 
