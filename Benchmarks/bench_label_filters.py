@@ -15,6 +15,9 @@ import sys
 import time
 
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from label_map import hundred_label_map  # noqa: E402
 from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.util.numpy_support import numpy_to_vtk
 
@@ -23,15 +26,7 @@ from digitalgeometry import vtkDigitalSurfaceFilter, vtkIINormalEstimator
 N = int(sys.argv[1]) if len(sys.argv) > 1 else 256
 RUNS = int(sys.argv[2]) if len(sys.argv) > 2 else 3
 SAMPLE = int(sys.argv[3]) if len(sys.argv) > 3 else 10
-rng = np.random.default_rng(1)
-data = np.zeros((N, N, N), np.int16)
-g = np.arange(-8, 9)
-zz, yy, xx = np.meshgrid(g, g, g, indexing="ij")
-shape = (np.abs(xx) <= 6) & (np.abs(yy) <= 6) & (np.abs(zz) <= 6) & ((xx - 6) ** 2 + (yy - 6) ** 2 + zz ** 2 > 36)
-for label in range(1, 101):
-    c = rng.integers(10, N - 10, 3)
-    block = data[c[0] - 8:c[0] + 9, c[1] - 8:c[1] + 9, c[2] - 8:c[2] + 9]
-    block[shape] = label
+data = hundred_label_map(N)
 present = sorted(set(np.unique(data).tolist()) - {0})
 image = vtkImageData()
 image.SetDimensions(N, N, N)

@@ -17,19 +17,14 @@ import time
 import nibabel as nib
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from label_map import hundred_label_map  # noqa: E402
+
 N = int(sys.argv[1]) if len(sys.argv) > 1 else 256
 RUNS = int(sys.argv[2]) if len(sys.argv) > 2 else 3
 PROGRAM = os.environ.get("DG_PROGRAM", os.path.join(os.path.dirname(__file__), "..", "build", "bin", "piecewise-normals"))
 tmp = tempfile.mkdtemp(prefix="dg_bench_labels_")
-rng = np.random.default_rng(1)
-data = np.zeros((N, N, N), np.int16)
-g = np.arange(-8, 9)
-zz, yy, xx = np.meshgrid(g, g, g, indexing="ij")
-shape = (np.abs(xx) <= 6) & (np.abs(yy) <= 6) & (np.abs(zz) <= 6) & ((xx - 6) ** 2 + (yy - 6) ** 2 + zz ** 2 > 36)
-for label in range(1, 101):
-    c = rng.integers(10, N - 10, 3)
-    block = data[c[0] - 8:c[0] + 9, c[1] - 8:c[1] + 9, c[2] - 8:c[2] + 9]
-    block[shape] = label
+data = hundred_label_map(N)
 path = os.path.join(tmp, "map.nii.gz")
 nib.save(nib.Nifti1Image(data, np.eye(4)), path)
 present = sorted(set(np.unique(data).tolist()) - {0})
