@@ -19,11 +19,14 @@ clang++ "${FLAGS[@]}" "$DG_ROOT/Testing/Fuzz/fuzz_vol.cxx" "$DG_ROOT/Filters/dgV
 # configured build tree.
 GEN="$DG_ROOT/build/Filters"
 if [ -f "$GEN/vtkDigitalGeometryModule.h" ]; then
-  # The module's sources but its file reader (vtkNIfTIVolumeReader needs
-  # VTK's IOImage, which no fuzz target uses).
+  # The module's sources but its image readers (vtkNIfTIVolumeReader and
+  # vtkOrientedImageReader need VTK's IOImage, which no fuzz target uses).
   SOURCES=()
   for f in "$DG_ROOT"/Filters/*.cxx; do
-    [ "$(basename "$f")" = vtkNIfTIVolumeReader.cxx ] || SOURCES+=("$f")
+    case "$(basename "$f")" in
+      vtkNIfTIVolumeReader.cxx | vtkOrientedImageReader.cxx) ;;
+      *) SOURCES+=("$f") ;;
+    esac
   done
   clang++ "${FLAGS[@]}" -I"$GEN" -I/usr/include/eigen3 -DNDEBUG \
     "$DG_ROOT/Testing/Fuzz/fuzz_filters.cxx" "${SOURCES[@]}" \
