@@ -188,7 +188,7 @@ std::int64_t ICLowerEntries(const dg::ATSystemMatrix& m, std::int64_t* blocks)
 // system of n rows, nnz stored non-zeros (both triangles), nL factor entries
 // below the diagonal and nc right-hand sides. One iteration is two passes
 // over memory: UpdateAndPrecondition (x += a p, r -= a q, then per IC block
-// the forward and backward sweeps z = (L D L^T)^-1 r) and NextDirection
+// the forward and backward sweeps z = (C C^T)^-1 r) and NextDirection
 // (w = A z, p = z + b p, q = w + b q). Every array is counted once per pass
 // it is read in and once per pass it is written in (a floor: the backward
 // sweep's re-read of z and the gathers of neighbours' z are taken as cache
@@ -199,15 +199,16 @@ std::int64_t ICLowerEntries(const dg::ATSystemMatrix& m, std::int64_t* blocks)
 //            writes p q;
 //   matrix   12 nnz + 4 (n + 1): double values, int row indices, int column
 //            starts (stored full, column major = row major by symmetry);
-//   factor   16 nL + 8 (n + 1) + 4 n: float values and int columns of L and
-//            of its transposed copy U, int row starts of both, float D^-1.
-// B = (16 + 10 s) nc n + 12 nnz + 4 (n + 1) + 16 nL + 8 (n + 1) + 4 n
+//   factor   8 nL + 4 (n + 1) + 4 n: float values and int columns of C's
+//            lower triangle (read by both sweeps, the backward one by
+//            columns), int row starts, float 1 / C_ii.
+// B = (16 + 10 s) nc n + 12 nnz + 4 (n + 1) + 8 nL + 4 (n + 1) + 4 n
 //   (56 nc n for the vectors in float, 96 nc n in double).
 // Per solve, outside B: r = b - A x (matrix, x read, r read and written),
 // the first preconditioning (r read, z written, the factor), Interleave and
 // Deinterleave of x (4 nc n doubles); the first NextDirection takes
 // the place of the one the last iteration skips:
-// S = 12 nnz + 4 (n + 1) + 16 nL + 8 (n + 1) + 4 n + nc n (8 (2 + 4) + 3 s)
+// S = 12 nnz + 4 (n + 1) + 8 nL + 4 (n + 1) + 4 n + nc n (8 (2 + 4) + 3 s)
 //   (x and b read, r written; r read, z written; x interleaved and back).
 struct SystemBytes
 {
@@ -223,7 +224,7 @@ struct SystemBytes
     const double n = static_cast<double>(this->N), nnz = static_cast<double>(this->Nnz),
                  nl = static_cast<double>(this->NL);
     const double matrix = 12 * nnz + 4 * (n + 1);
-    const double factor = 16 * nl + 8 * (n + 1) + 4 * n;
+    const double factor = 8 * nl + 4 * (n + 1) + 4 * n;
     this->PerIteration = (16.0 + 10.0 * s) * nc * n + matrix + factor;
     this->PerSolveSetup = matrix + factor + (48.0 + 3.0 * s) * nc * n;
   }
@@ -749,11 +750,11 @@ int main(int argc, char* argv[])
               "(median %.2f GB/s)\n",
     triadN * 8.0 / 1048576.0, vtkSMPTools::GetEstimatedNumberOfThreads(), triad, triadMedian);
   std::printf("floor = CG iterations x bytes per iteration / triad (best); bytes per iteration "
-              "B = (16 + 10 s) nc n + 12 nnz + 4 (n+1) + 16 nL + 8 (n+1) + 4 n\n"
+              "B = (16 + 10 s) nc n + 12 nnz + 4 (n+1) + 8 nL + 4 (n+1) + 4 n\n"
               "  (CG vectors: x in double, 2 transfers; r, p, q, z of s bytes (4: float), 10 transfers; matrix values, "
-              "row indices, column starts; IC factor L and U in float + int,\n"
-              "  row starts, float D^-1); 'floor+setup' adds per solve S = 12 nnz + 4 (n+1) + "
-              "16 nL + 8 (n+1) + 4 n + (48 + 3 s) nc n (residual, first preconditioning, (de)interleaving).\n");
+              "row indices, column starts; IC factor C's lower triangle in float + int,\n"
+              "  row starts, float 1/C_ii); 'floor+setup' adds per solve S = 12 nnz + 4 (n+1) + "
+              "8 nL + 4 (n+1) + 4 n + (48 + 3 s) nc n (residual, first preconditioning, (de)interleaving).\n");
   std::printf("  %-20s %8s %8s %8s %9s %9s %8s %7s %9s %7s %8s %8s\n", "volume", "solve s",
     "CGits u", "CGits v", "MB/it u", "MB/it v", "floor s", "ratio", "floor+set", "ratio",
     "factor s", "GB/s eff");
