@@ -11,6 +11,7 @@
 //
 // Usage: BenchATPipeline [runs] [volumes...] [--dgtal] [--check] [--exact]
 //                        [--tolerance T] [--vfactor F] [--double] [--dv]
+//                        [--dump PREFIX] [--no-triad]
 //   --exact compares the first run with SimplicialLDLT on the same schedule
 //   (the accuracy budget); --tolerance sets the CG tolerance (default: the
 //   ATParameters default), --vfactor the v-system's multiple of it; --double keeps CG's r, p, q, z in double
@@ -22,7 +23,9 @@
 //   fitted;
 //   default fandisk-128, fandisk-256, octa-flower17k-512. --check also runs
 //   vtkAmbrosioTortorelliFilter on the same II output and compares its
-//   NumberOfIterations, u and v with the core's.
+//   NumberOfIterations, u and v with the core's. --dump writes the first
+//   run's u and v (raw doubles, column major) to PREFIX-<volume>.u and .v, to
+//   compare two builds bitwise (cmp); --no-triad skips the STREAM triad.
 #include "dgATOperators.h"
 #include "dgATSolver.h"
 #include "vtkAmbrosioTortorelliFilter.h"
@@ -325,7 +328,9 @@ int main(int argc, char* argv[])
 {
   int runs = 3;
   bool dgtal = false, check = false, exact = false, doublePrecision = false, printDv = false;
+  bool triadWanted = true;
   double cgTolerance = 0, vFactor = 0;
+  std::string dumpPrefix;
   std::vector<std::string> volumes;
   for (int i = 1; i < argc; ++i)
   {
@@ -342,6 +347,10 @@ int main(int argc, char* argv[])
       doublePrecision = true;
     else if (a == "--dv")
       printDv = true;
+    else if (a == "--no-triad")
+      triadWanted = false;
+    else if (a == "--dump" && i + 1 < argc)
+      dumpPrefix = argv[++i];
     else if (a == "--vfactor" && i + 1 < argc)
       vFactor = std::atof(argv[++i]);
     else if (i == 1 && !a.empty() && std::isdigit(static_cast<unsigned char>(a[0])))
@@ -578,6 +587,16 @@ int main(int argc, char* argv[])
         vr.InputCopy = static_cast<std::size_t>(g.size()) * sizeof(double);
         firstU = solver.U();
         firstV = solver.V();
+        if (!dumpPrefix.empty())
+        {
+          const std::string base = dumpPrefix + "-" + volume;
+          std::ofstream(base + ".u", std::ios::binary)
+            .write(reinterpret_cast<const char*>(firstU.data()),
+              static_cast<std::streamsize>(firstU.size() * sizeof(double)));
+          std::ofstream(base + ".v", std::ios::binary)
+            .write(reinterpret_cast<const char*>(firstV.data()),
+              static_cast<std::streamsize>(firstV.size() * sizeof(double)));
+        }
         if (exact)
         {
           // The accuracy budget against the exact solver, same schedule.
@@ -744,6 +763,10 @@ int main(int argc, char* argv[])
   // The triad last: its 768 MB would otherwise be the process's peak RSS.
   const std::int64_t triadN = std::int64_t(1) << 25; // 3 x 256 MiB, 24x a 32 MiB L3
   double triadMedian = 0;
+  if (!triadWanted)
+  {
+    return 0;
+  }
   const double triad = TriadGBs(triadN, 10, &triadMedian);
   std::printf("\nSTREAM triad a = b + s c, 3 x %.0f MiB, %d threads, best of 10: %.2f GB/s "
               "(median %.2f GB/s)\n",
