@@ -295,7 +295,7 @@ struct VolumeResult
   double ProcessPeak = 0;
   bool Deterministic = true;
   dg::ATMemoryParts Memory; // what the core holds at the end of the first run
-  std::size_t InputCopy = 0; // g, the field as the filter hands it over
+  std::size_t InputCopy = 0; // g, the field as the filter hands it over (0: taken by the solver)
 };
 
 void MinMax(const std::vector<std::int64_t>& v, std::int64_t& total, std::int64_t& lo,
@@ -543,7 +543,8 @@ int main(int argc, char* argv[])
       std::int64_t seenU = 0, seenV = 0;
       Eigen::VectorXd vSeen = Eigen::VectorXd::Ones(complex.NumberOfVertices());
       t0 = Clock::now();
-      const bool ok = solver.Run(g, [&](double) {
+      // As the filter, the solver takes g, unless the exact run needs it.
+      const auto progress = [&](double) {
         const dg::ATStatistics& st = solver.Statistics();
         const std::int64_t u = st.CGIterationsU, v = st.CGIterations - st.CGIterationsU;
         if (printDv && r == 0)
@@ -559,7 +560,8 @@ int main(int argc, char* argv[])
         seenU = u;
         seenV = v;
         return true;
-      });
+      };
+      const bool ok = exact ? solver.Run(g, progress) : solver.Run(std::move(g), progress);
       run.Run = Seconds(t0);
       run.AT = run.Prep + run.Complex + run.Run;
       run.ATCpu = CpuSeconds() - cpu0;
@@ -703,7 +705,7 @@ int main(int argc, char* argv[])
     // at the end of the run (allocated capacity), per surfel.
     {
       dg::ATMemoryParts parts = vr.Memory;
-      parts.emplace_back("input field g (the caller's copy)", vr.InputCopy);
+      parts.emplace_back("input field g (the caller's copy; 0: taken by the solver)", vr.InputCopy);
       std::size_t total = 0;
       for (const auto& p : parts)
       {

@@ -43,6 +43,27 @@ using ATMemoryParts = std::vector<std::pair<std::string, std::size_t>>;
 /// Bytes of a sparse matrix's values, inner indices and column starts.
 std::size_t MatrixBytes(const ATSystemMatrix& m);
 
+/// Asks the kernel to back the 2 MiB-aligned part of [p, p + bytes) with
+/// transparent huge pages (madvise MADV_HUGEPAGE; nothing elsewhere than
+/// Linux, or below 2 MiB). Call it on a fresh allocation before writing it:
+/// on the "vm" machine a first touch costs 13-16 us per 4 KiB page, so AT's
+/// ~470 MB on octa-flower 512^3 cost about 1.5 s in page faults alone, and
+/// huge pages cut that by 2-40x (docs/at-speed.md). Only the advice
+/// changes: the memory, its contents and the results do not.
+void AdviseHugePages(const void* p, std::size_t bytes);
+/// v = n copies of value, the new storage advised as above first.
+template <class T>
+void AssignHuge(std::vector<T>& v, std::size_t n, const T& value)
+{
+  if (v.capacity() < n)
+  {
+    std::vector<T>().swap(v);
+    v.reserve(n);
+    AdviseHugePages(v.data(), n * sizeof(T));
+  }
+  v.assign(n, value);
+}
+
 /// Combinatorics of a polygonal complex: faces, unique edges and their
 /// incidences, plus the fixed sparsity patterns of both AT systems.
 class ATComplex
@@ -61,13 +82,22 @@ public:
 
   /// 2 per edge: low id, high id (the edge's orientation runs low -> high).
   std::vector<int> EdgeVertices;
-  /// Edge -> incident faces with the sign of B (CSR, faces ascending).
-  std::vector<std::int64_t> EdgeFacePtr;
+  /// Edge -> incident faces with the sign of B (CSR, faces ascending). The
+  /// offsets are int: they count at most the polygons' sides, which Build
+  /// bounds by 2^30.
+  std::vector<int> EdgeFacePtr;
   std::vector<int> EdgeFaces;
   std::vector<signed char> EdgeFaceSigns;
-  /// Vertex -> incident edges (CSR, edges ascending).
-  std::vector<std::int64_t> VertexEdgePtr;
+  /// Vertex -> incident edges (CSR, edges ascending). As edges are numbered
+  /// by (low, high), a vertex's neighbours come out ascending in this order:
+  /// row a of VPattern is its edges' other ends with a inserted in order,
+  /// which is how the v-assembly finds the edge of each non-zero.
+  std::vector<int> VertexEdgePtr;
   std::vector<int> VertexEdges;
+  /// Face -> its edges (CSR, edges ascending): the transpose of edge ->
+  /// faces, which the u-assembly walks (the signs are read from there).
+  std::vector<int> FaceEdgePtr;
+  std::vector<int> FaceEdges;
 
   /// The operators of MATH.md section 2, as sparse matrices (for tests, the
   /// energy and external use; the solver works from the arrays above).
@@ -85,21 +115,16 @@ public:
   /// The bytes of every array above, by name.
   void Memory(ATMemoryParts& parts) const;
 
-  /// Pattern of the u-system alpha I + B^T diag(w) B (F x F) and, for every
-  /// stored non-zero k, the contributions w[ContribEdge[j]] * ContribCoef[j]
-  /// for j in [UContribPtr[k], UContribPtr[k+1]). The coefficients are
-  /// products of two signs of B, so +1 or -1: one byte each.
+  /// Pattern of the u-system alpha I + B^T diag(w) B (F x F): row f holds f
+  /// and every face sharing an interior edge with f, columns ascending. Its
+  /// values are assembled from FaceEdges and EdgeFaces (ATSolver::AssembleU):
+  /// no per-non-zero map is stored (it took 84 bytes per face).
   ATSystemMatrix UPattern;
-  std::vector<std::int64_t> UContribPtr;
-  std::vector<int> UContribEdge;
-  std::vector<signed char> UContribCoef;
-  std::vector<int> UDiagonal; // index of (f, f) in UPattern's value array
 
-  /// Pattern of the v-system (N x N): the vertex graph plus the diagonal;
-  /// VEdge[k] is the edge joining the two vertices of non-zero k, or -1 on
-  /// the diagonal.
+  /// Pattern of the v-system (N x N): the vertex graph plus the diagonal
+  /// (the k-th off-diagonal entry of row a comes from VertexEdges' k-th edge
+  /// of a, see above).
   ATSystemMatrix VPattern;
-  std::vector<int> VEdge;
 
 private:
   void BuildSystemPatterns();

@@ -581,7 +581,8 @@ int vtkAmbrosioTortorelliFilter::Internals::Solve(vtkAmbrosioTortorelliFilter* s
   {
     solver.SetMetric(&metric);
   }
-  const bool done = solver.Run(g, [self](double f) {
+  // g is not read after the solve: the solver takes it instead of a copy.
+  const bool done = solver.Run(std::move(g), [self](double f) {
     self->UpdateProgress(0.1 + 0.85 * f);
     return !self->GetAbortExecute();
   });
