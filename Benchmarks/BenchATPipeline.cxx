@@ -489,6 +489,7 @@ int main(int argc, char* argv[])
       vtkDataArray* field = input->GetCellData()->GetNormals();
       const int nc = field->GetNumberOfComponents();
       Eigen::MatrixXd g(nFaces, nc);
+      dg::AdviseHugePages(g.data(), static_cast<std::size_t>(g.size()) * sizeof(double));
       {
         const auto tuples = vtk::DataArrayTupleRange(field);
         vtkSMPTools::For(0, nFaces, [&](vtkIdType b, vtkIdType e) {
@@ -502,8 +503,10 @@ int main(int argc, char* argv[])
           }
         });
       }
-      std::vector<std::int64_t> offsets(nFaces + 1),
-        connectivity(polys->GetNumberOfConnectivityIds());
+      std::vector<std::int64_t> offsets, connectivity;
+      dg::AssignHuge(offsets, static_cast<std::size_t>(nFaces + 1), std::int64_t(0));
+      dg::AssignHuge(
+        connectivity, static_cast<std::size_t>(polys->GetNumberOfConnectivityIds()), std::int64_t(0));
       {
         const auto off = vtk::DataArrayValueRange<1>(polys->GetOffsetsArray());
         const auto conn = vtk::DataArrayValueRange<1>(polys->GetConnectivityArray());

@@ -285,6 +285,32 @@ void ATComplex::BuildSystemPatterns()
     }
   });
   std::vector<int>().swap(rowPtr);
+  AssignHuge(this->FaceEdgeCode, this->FaceEdges.size(), FaceEdgeGeneral);
+  vtkSMPTools::For(0, nf, [&](std::int64_t fb, std::int64_t fe) {
+    for (std::int64_t f = fb; f < fe; ++f)
+    {
+      const int* r0 = uInner + this->UPattern.outerIndexPtr()[f];
+      const int* r1 = uInner + this->UPattern.outerIndexPtr()[f + 1];
+      for (int j = this->FaceEdgePtr[f]; j < this->FaceEdgePtr[f + 1]; ++j)
+      {
+        const int e = this->FaceEdges[j], i0 = this->EdgeFacePtr[e];
+        const int n = this->EdgeFacePtr[e + 1] - i0;
+        if (n < 2)
+        {
+          this->FaceEdgeCode[j] = FaceEdgeBoundary;
+          continue;
+        }
+        const int self = this->EdgeFaces[i0] == f ? i0 : i0 + 1, other = 2 * i0 + 1 - self;
+        const signed char sf = this->EdgeFaceSigns[self], so = this->EdgeFaceSigns[other];
+        const std::ptrdiff_t pos = std::lower_bound(r0, r1, this->EdgeFaces[other]) - r0;
+        if (n == 2 && (sf == 1 || sf == -1) && (so == 1 || so == -1) && pos < 16)
+        {
+          this->FaceEdgeCode[j] =
+            static_cast<unsigned char>(pos | (sf < 0 ? 0x10 : 0) | (so < 0 ? 0x20 : 0));
+        }
+      }
+    }
+  });
 
   // v-system: the vertex graph plus the diagonal. A vertex's edges give its
   // neighbours ascending (see the header): no sort.
@@ -343,8 +369,8 @@ void ATComplex::Memory(ATMemoryParts& parts) const
     Bytes(this->EdgeFacePtr) + Bytes(this->EdgeFaces) + Bytes(this->EdgeFaceSigns));
   parts.emplace_back(
     "complex: vertex -> edges (ptr, edges)", Bytes(this->VertexEdgePtr) + Bytes(this->VertexEdges));
-  parts.emplace_back("complex: face -> edges (ptr, edges; u assembly)",
-    Bytes(this->FaceEdgePtr) + Bytes(this->FaceEdges));
+  parts.emplace_back("complex: face -> edges (ptr, edges, codes; u assembly)",
+    Bytes(this->FaceEdgePtr) + Bytes(this->FaceEdges) + Bytes(this->FaceEdgeCode));
   parts.emplace_back("complex: u pattern (zero values + indices)", MatrixBytes(this->UPattern));
   parts.emplace_back("complex: v pattern (zero values + indices)", MatrixBytes(this->VPattern));
 }

@@ -98,6 +98,14 @@ public:
   /// faces, which the u-assembly walks (the signs are read from there).
   std::vector<int> FaceEdgePtr;
   std::vector<int> FaceEdges;
+  /// For each FaceEdges entry (face f, edge e), how e enters row f of the
+  /// u-system when e has exactly 2 faces f, g with signs +-1 (the digital
+  /// surfaces' only case): the position of g in the row (low 4 bits), f's
+  /// sign negative (bit 4), g's sign negative (bit 5). FaceEdgeBoundary
+  /// marks a boundary edge (no term), FaceEdgeGeneral any other edge
+  /// (ATSolver::AssembleU then reads the incidences).
+  std::vector<unsigned char> FaceEdgeCode;
+  static constexpr unsigned char FaceEdgeBoundary = 0x40, FaceEdgeGeneral = 0x80;
 
   /// The operators of MATH.md section 2, as sparse matrices (for tests, the
   /// energy and external use; the solver works from the arrays above).

@@ -190,7 +190,9 @@ void ATSolver::AssembleU()
   // Entry (f, g) = sum over the interior edges e shared by f and g, in
   // ascending order, of s_f(e) s_g(e) w(e), then alpha (or alpha |f|) on the
   // diagonal: walking f's edges ascending adds the terms in that order, as
-  // the per-non-zero map that this replaced did (bitwise the same values).
+  // the per-non-zero map that this replaced did (bitwise the same values;
+  // the coefficients are exact small integers, so c * w is exact).
+  static constexpr double sign[2] = { 1.0, -1.0 };
   ForBlocks(nf,
     [&](std::int64_t, std::int64_t f0, std::int64_t f1)
     {
@@ -198,15 +200,29 @@ void ATSolver::AssembleU()
       {
         const int r0 = outer[f], r1 = outer[f + 1];
         std::fill(val + r0, val + r1, 0.0);
+        int d = r0; // the diagonal's position: branch-free count (rows are short)
+        for (int k = r0; k < r1; ++k)
+        {
+          d += inner[k] < f;
+        }
         for (int j = K.FaceEdgePtr[f]; j < K.FaceEdgePtr[f + 1]; ++j)
         {
-          const int e = K.FaceEdges[j];
-          const int i0 = K.EdgeFacePtr[e], i1 = K.EdgeFacePtr[e + 1];
-          if (i1 - i0 < 2)
+          const unsigned char code = K.FaceEdgeCode[j];
+          if (code == ATComplex::FaceEdgeBoundary)
           {
             continue; // boundary edge: no jump (dgATOperators.h)
           }
+          const int e = K.FaceEdges[j];
           const double we = w[e];
+          if (code != ATComplex::FaceEdgeGeneral)
+          {
+            // Two faces, signs +-1: s_f^2 = 1 on the diagonal, s_f s_g at g.
+            val[d] += we;
+            // The product of two random signs: a table, not a branch.
+            val[r0 + (code & 15)] += sign[((code >> 4) ^ (code >> 5)) & 1] * we;
+            continue;
+          }
+          const int i0 = K.EdgeFacePtr[e], i1 = K.EdgeFacePtr[e + 1];
           signed char sf = 0; // f's sign on e
           for (int i = i0; i < i1; ++i)
           {
@@ -224,8 +240,7 @@ void ATSolver::AssembleU()
             val[k] += static_cast<double>(coef) * we;
           }
         }
-        const int* d = std::lower_bound(inner + r0, inner + r1, static_cast<int>(f));
-        val[d - inner] += faceArea ? alpha * faceArea[f] : alpha;
+        val[d] += faceArea ? alpha * faceArea[f] : alpha;
       }
     });
 }
