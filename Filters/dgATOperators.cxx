@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdlib>
 #include <limits>
 
 #if defined(__linux__)
@@ -378,6 +379,18 @@ void ATComplex::Memory(ATMemoryParts& parts) const
 void AdviseHugePages(const void* p, std::size_t bytes)
 {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
+  // Opt-in (DG_AT_HUGEPAGES=1): on the "vm" machine huge pages made the
+  // first touch 2-40x cheaper but the later phases slower under load
+  // (octa-flower: factorisation 0.55-0.65 -> 1.4-1.6 s, assembly 0.9-1.2
+  // -> 1.35-1.8 s, at load ~5; docs/at-speed.md), so the default is off.
+  static const bool on = [] {
+    const char* e = std::getenv("DG_AT_HUGEPAGES");
+    return e && e[0] == '1';
+  }();
+  if (!on)
+  {
+    return;
+  }
   constexpr std::uintptr_t huge = std::uintptr_t(1) << 21;
   const std::uintptr_t begin = (reinterpret_cast<std::uintptr_t>(p) + huge - 1) & ~(huge - 1);
   const std::uintptr_t end = (reinterpret_cast<std::uintptr_t>(p) + bytes) & ~(huge - 1);

@@ -43,13 +43,14 @@ using ATMemoryParts = std::vector<std::pair<std::string, std::size_t>>;
 /// Bytes of a sparse matrix's values, inner indices and column starts.
 std::size_t MatrixBytes(const ATSystemMatrix& m);
 
-/// Asks the kernel to back the 2 MiB-aligned part of [p, p + bytes) with
-/// transparent huge pages (madvise MADV_HUGEPAGE; nothing elsewhere than
-/// Linux, or below 2 MiB). Call it on a fresh allocation before writing it:
-/// on the "vm" machine a first touch costs 13-16 us per 4 KiB page, so AT's
-/// ~470 MB on octa-flower 512^3 cost about 1.5 s in page faults alone, and
-/// huge pages cut that by 2-40x (docs/at-speed.md). Only the advice
-/// changes: the memory, its contents and the results do not.
+/// With DG_AT_HUGEPAGES=1 in the environment, asks the kernel to back the
+/// 2 MiB-aligned part of [p, p + bytes) with transparent huge pages
+/// (madvise MADV_HUGEPAGE; Linux only); otherwise does nothing. Call it on
+/// a fresh allocation before writing it. On the "vm" machine a first touch
+/// costs 13-16 us per 4 KiB page (AT's ~470 MB on octa-flower 512^3: about
+/// 1.5 s of page faults), which huge pages cut, but the later phases then
+/// ran slower there under load: opt-in until that is understood
+/// (docs/at-speed.md). Only the advice changes, never the results.
 void AdviseHugePages(const void* p, std::size_t bytes);
 /// v = n copies of value, the new storage advised as above first.
 template <class T>

@@ -3,8 +3,8 @@
 // SPD linear systems, the epsilon schedule and the energy.
 //
 // Both system matrices keep the sparsity pattern built once by ATComplex;
-// each iteration only recomputes their values (a gather per stored non-zero,
-// parallel and deterministic), so a direct solver analyses (orders) once and
+// each iteration only recomputes their values (row by row from the complex's
+// incidences, parallel and deterministic), so a direct solver analyses (orders) once and
 // refactorises numerically, and the iterative solver just reads the values.
 //
 // Linear solvers (ATLinearSolver):
