@@ -11,6 +11,7 @@
 //
 // Usage: BenchATPipeline [runs] [volumes...] [--dgtal] [--check] [--exact]
 //                        [--tolerance T] [--vfactor F] [--double] [--dv]
+//                        [--dump PREFIX] [--no-triad]
 //   --exact compares the first run with SimplicialLDLT on the same schedule
 //   (the accuracy budget); --tolerance sets the CG tolerance (default: the
 //   ATParameters default), --vfactor the v-system's multiple of it; --double keeps CG's r, p, q, z in double
@@ -22,7 +23,9 @@
 //   fitted;
 //   default fandisk-128, fandisk-256, octa-flower17k-512. --check also runs
 //   vtkAmbrosioTortorelliFilter on the same II output and compares its
-//   NumberOfIterations, u and v with the core's.
+//   NumberOfIterations, u and v with the core's. --dump writes the first
+//   run's u and v (raw doubles, column major) to PREFIX-<volume>.u and .v, to
+//   compare two builds bitwise (cmp); --no-triad skips the STREAM triad.
 #include "dgATOperators.h"
 #include "dgATSolver.h"
 #include "vtkAmbrosioTortorelliFilter.h"
@@ -293,7 +296,7 @@ struct VolumeResult
   double ProcessPeak = 0;
   bool Deterministic = true;
   dg::ATMemoryParts Memory; // what the core holds at the end of the first run
-  std::size_t InputCopy = 0; // g, the field as the filter hands it over
+  std::size_t InputCopy = 0; // g, the field as the filter hands it over (0: taken by the solver)
 };
 
 void MinMax(const std::vector<std::int64_t>& v, std::int64_t& total, std::int64_t& lo,
@@ -326,7 +329,9 @@ int main(int argc, char* argv[])
 {
   int runs = 3;
   bool dgtal = false, check = false, exact = false, doublePrecision = false, printDv = false;
+  bool triadWanted = true;
   double cgTolerance = 0, vFactor = 0;
+  std::string dumpPrefix;
   std::vector<std::string> volumes;
   for (int i = 1; i < argc; ++i)
   {
@@ -343,6 +348,10 @@ int main(int argc, char* argv[])
       doublePrecision = true;
     else if (a == "--dv")
       printDv = true;
+    else if (a == "--no-triad")
+      triadWanted = false;
+    else if (a == "--dump" && i + 1 < argc)
+      dumpPrefix = argv[++i];
     else if (a == "--vfactor" && i + 1 < argc)
       vFactor = std::atof(argv[++i]);
     else if (i == 1 && !a.empty() && std::isdigit(static_cast<unsigned char>(a[0])))
@@ -481,6 +490,7 @@ int main(int argc, char* argv[])
       vtkDataArray* field = input->GetCellData()->GetNormals();
       const int nc = field->GetNumberOfComponents();
       Eigen::MatrixXd g(nFaces, nc);
+      dg::AdviseHugePages(g.data(), static_cast<std::size_t>(g.size()) * sizeof(double));
       {
         const auto tuples = vtk::DataArrayTupleRange(field);
         vtkSMPTools::For(0, nFaces, [&](vtkIdType b, vtkIdType e) {
@@ -494,8 +504,10 @@ int main(int argc, char* argv[])
           }
         });
       }
-      std::vector<std::int64_t> offsets(nFaces + 1),
-        connectivity(polys->GetNumberOfConnectivityIds());
+      std::vector<std::int64_t> offsets, connectivity;
+      dg::AssignHuge(offsets, static_cast<std::size_t>(nFaces + 1), std::int64_t(0));
+      dg::AssignHuge(
+        connectivity, static_cast<std::size_t>(polys->GetNumberOfConnectivityIds()), std::int64_t(0));
       {
         const auto off = vtk::DataArrayValueRange<1>(polys->GetOffsetsArray());
         const auto conn = vtk::DataArrayValueRange<1>(polys->GetConnectivityArray());
@@ -535,7 +547,8 @@ int main(int argc, char* argv[])
       std::int64_t seenU = 0, seenV = 0;
       Eigen::VectorXd vSeen = Eigen::VectorXd::Ones(complex.NumberOfVertices());
       t0 = Clock::now();
-      const bool ok = solver.Run(g, [&](double) {
+      // As the filter, the solver takes g, unless the exact run needs it.
+      const auto progress = [&](double) {
         const dg::ATStatistics& st = solver.Statistics();
         const std::int64_t u = st.CGIterationsU, v = st.CGIterations - st.CGIterationsU;
         if (printDv && r == 0)
@@ -551,7 +564,8 @@ int main(int argc, char* argv[])
         seenU = u;
         seenV = v;
         return true;
-      });
+      };
+      const bool ok = exact ? solver.Run(g, progress) : solver.Run(std::move(g), progress);
       run.Run = Seconds(t0);
       run.AT = run.Prep + run.Complex + run.Run;
       run.ATCpu = CpuSeconds() - cpu0;
@@ -579,6 +593,16 @@ int main(int argc, char* argv[])
         vr.InputCopy = static_cast<std::size_t>(g.size()) * sizeof(double);
         firstU = solver.U();
         firstV = solver.V();
+        if (!dumpPrefix.empty())
+        {
+          const std::string base = dumpPrefix + "-" + volume;
+          std::ofstream(base + ".u", std::ios::binary)
+            .write(reinterpret_cast<const char*>(firstU.data()),
+              static_cast<std::streamsize>(firstU.size() * sizeof(double)));
+          std::ofstream(base + ".v", std::ios::binary)
+            .write(reinterpret_cast<const char*>(firstV.data()),
+              static_cast<std::streamsize>(firstV.size() * sizeof(double)));
+        }
         if (exact)
         {
           // The accuracy budget against the exact solver, same schedule.
@@ -685,7 +709,7 @@ int main(int argc, char* argv[])
     // at the end of the run (allocated capacity), per surfel.
     {
       dg::ATMemoryParts parts = vr.Memory;
-      parts.emplace_back("input field g (the caller's copy)", vr.InputCopy);
+      parts.emplace_back("input field g (the caller's copy; 0: taken by the solver)", vr.InputCopy);
       std::size_t total = 0;
       for (const auto& p : parts)
       {
@@ -745,6 +769,10 @@ int main(int argc, char* argv[])
   // The triad last: its 768 MB would otherwise be the process's peak RSS.
   const std::int64_t triadN = std::int64_t(1) << 25; // 3 x 256 MiB, 24x a 32 MiB L3
   double triadMedian = 0;
+  if (!triadWanted)
+  {
+    return 0;
+  }
   const double triad = TriadGBs(triadN, 10, &triadMedian);
   std::printf("\nSTREAM triad a = b + s c, 3 x %.0f MiB, %d threads, best of 10: %.2f GB/s "
               "(median %.2f GB/s)\n",

@@ -3,7 +3,13 @@
 #include <vtkSMPTools.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <cstdlib>
 #include <limits>
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 namespace dg
 {
@@ -12,40 +18,40 @@ namespace
 // One polygon side seen from its lower vertex.
 struct Side
 {
-  int High;
-  int Face;
-  signed char Sign; // +1 when the face runs low -> high along it
+  int High = 0;
+  int Face = 0;
+  signed char Sign = 0; // +1 when the face runs low -> high along it
   bool operator<(const Side& o) const
   {
     return this->High != o.High ? this->High < o.High : this->Face < o.Face;
   }
 };
 
-// Exclusive prefix sum in place; returns the total.
-std::int64_t PrefixSum(std::vector<std::int64_t>& a)
+// Exclusive prefix sum in place; appends and returns the total.
+template <class T>
+std::int64_t PrefixSum(std::vector<T>& a)
 {
   std::int64_t s = 0;
   for (auto& x : a)
   {
     const std::int64_t c = x;
-    x = s;
+    x = static_cast<T>(s);
     s += c;
   }
-  a.push_back(s);
+  a.push_back(static_cast<T>(s));
   return s;
 }
 
-void SetPattern(ATSystemMatrix& m, std::int64_t n, const std::vector<std::int64_t>& ptr,
-  const std::vector<int>& columns)
+// An n x n pattern with nnz zero values, its column starts from ptr; the
+// caller fills the row indices in place (no separate column array).
+void StartPattern(ATSystemMatrix& m, std::int64_t n, const std::vector<int>& ptr)
 {
   m.resize(static_cast<int>(n), static_cast<int>(n));
-  m.resizeNonZeros(static_cast<Eigen::Index>(columns.size()));
-  for (std::int64_t i = 0; i <= n; ++i)
-  {
-    m.outerIndexPtr()[i] = static_cast<int>(ptr[i]);
-  }
-  std::copy(columns.begin(), columns.end(), m.innerIndexPtr());
-  std::fill(m.valuePtr(), m.valuePtr() + columns.size(), 0.0);
+  m.resizeNonZeros(static_cast<Eigen::Index>(ptr[n]));
+  AdviseHugePages(m.valuePtr(), static_cast<std::size_t>(ptr[n]) * sizeof(double));
+  AdviseHugePages(m.innerIndexPtr(), static_cast<std::size_t>(ptr[n]) * sizeof(int));
+  std::copy(ptr.begin(), ptr.end(), m.outerIndexPtr());
+  std::fill(m.valuePtr(), m.valuePtr() + ptr[n], 0.0);
 }
 } // namespace
 
@@ -61,7 +67,8 @@ bool ATComplex::Build(std::int64_t numberOfVertices, const std::vector<std::int6
   };
   const std::int64_t nFaces = offsets.empty() ? 0 : static_cast<std::int64_t>(offsets.size()) - 1;
   // Everything is indexed with int, as Eigen's default sparse storage; a
-  // surface that large (2^31 edges) would not fit in memory anyway.
+  // surface that large (2^31 edges) would not fit in memory anyway. The
+  // sides (hence the incidences) are at most 2^30, so their offsets are int.
   const std::int64_t intMax = std::numeric_limits<int>::max();
   if (numberOfVertices > intMax || nFaces > intMax ||
     static_cast<std::int64_t>(connectivity.size()) > intMax / 2)
@@ -74,7 +81,8 @@ bool ATComplex::Build(std::int64_t numberOfVertices, const std::vector<std::int6
 
   // 1. Sides bucketed by their lower vertex. The fill is sequential (cheap),
   // the per-bucket sort makes the order independent of how it was filled.
-  std::vector<std::int64_t> bucket(nv, 0);
+  std::vector<int> bucket;
+  AssignHuge(bucket, static_cast<std::size_t>(nv), 0);
   for (std::int64_t f = 0; f < nFaces; ++f)
   {
     const std::int64_t b = offsets[f], e = offsets[f + 1];
@@ -99,9 +107,10 @@ bool ATComplex::Build(std::int64_t numberOfVertices, const std::vector<std::int6
     }
   }
   const std::int64_t nSides = PrefixSum(bucket);
-  std::vector<Side> sides(nSides);
+  std::vector<Side> sides;
+  AssignHuge(sides, static_cast<std::size_t>(nSides), Side{});
   {
-    std::vector<std::int64_t> fill(bucket.begin(), bucket.end() - 1);
+    std::vector<int> fill(bucket.begin(), bucket.end() - 1);
     for (std::int64_t f = 0; f < nFaces; ++f)
     {
       const std::int64_t b = offsets[f], e = offsets[f + 1];
@@ -120,12 +129,12 @@ bool ATComplex::Build(std::int64_t numberOfVertices, const std::vector<std::int6
 
   // 2. Unique edges per bucket and unique (edge, face) incidences; a face
   // that runs twice along the same edge gets the sum of its signs.
-  std::vector<std::int64_t> edgeCount(nv), incidenceCount(nv);
+  std::vector<int> edgeCount(nv), incidenceCount(nv);
   vtkSMPTools::For(0, nv, [&](std::int64_t vb, std::int64_t ve) {
     for (std::int64_t v = vb; v < ve; ++v)
     {
       std::sort(sides.begin() + bucket[v], sides.begin() + bucket[v + 1]);
-      std::int64_t ne = 0, ni = 0;
+      int ne = 0, ni = 0;
       for (std::int64_t s = bucket[v]; s < bucket[v + 1]; ++s)
       {
         const bool newEdge = s == bucket[v] || sides[s].High != sides[s - 1].High;
@@ -142,14 +151,14 @@ bool ATComplex::Build(std::int64_t numberOfVertices, const std::vector<std::int6
   {
     return fail("the complex is too large (more than 2^30 edges)");
   }
-  this->EdgeVertices.assign(2 * nEdges, 0);
-  this->EdgeFacePtr.assign(nEdges + 1, 0);
-  this->EdgeFaces.assign(nIncidences, 0);
-  this->EdgeFaceSigns.assign(nIncidences, 0);
+  AssignHuge(this->EdgeVertices, static_cast<std::size_t>(2 * nEdges), 0);
+  AssignHuge(this->EdgeFacePtr, static_cast<std::size_t>(nEdges + 1), 0);
+  AssignHuge(this->EdgeFaces, static_cast<std::size_t>(nIncidences), 0);
+  AssignHuge(this->EdgeFaceSigns, static_cast<std::size_t>(nIncidences), static_cast<signed char>(0));
   vtkSMPTools::For(0, nv, [&](std::int64_t vb, std::int64_t ve) {
     for (std::int64_t v = vb; v < ve; ++v)
     {
-      std::int64_t e = edgeCount[v] - 1, i = incidenceCount[v] - 1;
+      int e = edgeCount[v] - 1, i = incidenceCount[v] - 1;
       for (std::int64_t s = bucket[v]; s < bucket[v + 1]; ++s)
       {
         const bool newEdge = s == bucket[v] || sides[s].High != sides[s - 1].High;
@@ -169,26 +178,46 @@ bool ATComplex::Build(std::int64_t numberOfVertices, const std::vector<std::int6
       }
     }
   });
-  this->EdgeFacePtr[nEdges] = nIncidences;
-  sides = std::vector<Side>();
+  this->EdgeFacePtr[nEdges] = static_cast<int>(nIncidences);
+  // Freed before the larger arrays below are made, so that they reuse it.
+  std::vector<Side>().swap(sides);
+  std::vector<int>().swap(bucket);
 
-  // 3. Vertex -> edges (filled in edge order, so ascending).
-  this->VertexEdgePtr.assign(nv, 0);
+  // 3. Vertex -> edges (filled in edge order, so ascending). A vertex's
+  // edges as the lower end are the contiguous run edgeCount[v]...: only
+  // the edges it ends are scattered.
+  AssignHuge(this->VertexEdgePtr, static_cast<std::size_t>(nv), 0);
   for (std::int64_t e = 0; e < nEdges; ++e)
   {
-    ++this->VertexEdgePtr[this->EdgeVertices[2 * e]];
     ++this->VertexEdgePtr[this->EdgeVertices[2 * e + 1]];
   }
-  PrefixSum(this->VertexEdgePtr);
-  this->VertexEdges.assign(2 * nEdges, 0);
+  for (std::int64_t v = 0; v < nv; ++v)
   {
-    std::vector<std::int64_t> fill(this->VertexEdgePtr.begin(), this->VertexEdgePtr.end() - 1);
+    this->VertexEdgePtr[v] += edgeCount[v + 1] - edgeCount[v];
+  }
+  PrefixSum(this->VertexEdgePtr);
+  AssignHuge(this->VertexEdges, static_cast<std::size_t>(2 * nEdges), 0);
+  {
+    // Edges ending at v come first (their lower ends are below v), in edge
+    // order; then v's own run.
+    std::vector<int> fill(this->VertexEdgePtr.begin(), this->VertexEdgePtr.end() - 1);
     for (std::int64_t e = 0; e < nEdges; ++e)
     {
-      this->VertexEdges[fill[this->EdgeVertices[2 * e]]++] = static_cast<int>(e);
       this->VertexEdges[fill[this->EdgeVertices[2 * e + 1]]++] = static_cast<int>(e);
     }
+    vtkSMPTools::For(0, nv, [&](std::int64_t vb, std::int64_t ve) {
+      for (std::int64_t v = vb; v < ve; ++v)
+      {
+        int k = fill[v];
+        for (int e = edgeCount[v]; e < edgeCount[v + 1]; ++e)
+        {
+          this->VertexEdges[k++] = e;
+        }
+      }
+    });
   }
+  std::vector<int>().swap(edgeCount);
+  std::vector<int>().swap(incidenceCount);
   this->BuildSystemPatterns();
   return true;
 }
@@ -198,142 +227,125 @@ void ATComplex::BuildSystemPatterns()
   const std::int64_t nf = this->NFaces, nv = this->NVertices;
   const std::int64_t ne = this->NumberOfEdges();
 
-  // Face -> (edge, sign), from the edge -> face incidences (ascending edges).
-  std::vector<std::int64_t> faceEdgePtr(nf, 0);
-  for (std::int64_t i = 0; i < this->EdgeFacePtr[ne]; ++i)
+  // Face -> edges, from the edge -> face incidences (ascending edges).
+  AssignHuge(this->FaceEdgePtr, static_cast<std::size_t>(nf), 0);
+  for (int i = 0; i < this->EdgeFacePtr[ne]; ++i)
   {
-    ++faceEdgePtr[this->EdgeFaces[i]];
+    ++this->FaceEdgePtr[this->EdgeFaces[i]];
   }
-  PrefixSum(faceEdgePtr);
-  std::vector<int> faceEdges(faceEdgePtr[nf]);
-  std::vector<signed char> faceSigns(faceEdgePtr[nf]);
+  PrefixSum(this->FaceEdgePtr);
+  AssignHuge(this->FaceEdges, static_cast<std::size_t>(this->FaceEdgePtr[nf]), 0);
   {
-    std::vector<std::int64_t> fill(faceEdgePtr.begin(), faceEdgePtr.end() - 1);
+    std::vector<int> fill(this->FaceEdgePtr.begin(), this->FaceEdgePtr.end() - 1);
     for (std::int64_t e = 0; e < ne; ++e)
     {
-      for (std::int64_t i = this->EdgeFacePtr[e]; i < this->EdgeFacePtr[e + 1]; ++i)
+      for (int i = this->EdgeFacePtr[e]; i < this->EdgeFacePtr[e + 1]; ++i)
       {
-        const std::int64_t k = fill[this->EdgeFaces[i]]++;
-        faceEdges[k] = static_cast<int>(e);
-        faceSigns[k] = this->EdgeFaceSigns[i];
+        this->FaceEdges[fill[this->EdgeFaces[i]]++] = static_cast<int>(e);
       }
     }
   }
 
-  // u-system: row f couples f with every face sharing one of its edges;
-  // entry (f, g) collects s_f(e) s_g(e) w(e) over the shared edges e. Two
-  // passes (count, then fill) keep the output independent of the threads.
-  struct Entry
-  {
-    int Column, Edge;
-    signed char Coef;
-    bool operator<(const Entry& o) const
+  // u-system: row f couples f with every face sharing an interior edge with
+  // it. Two passes (count, then fill) keep the output independent of the
+  // threads.
+  auto rowColumns = [&](std::int64_t f, std::vector<int>& columns) {
+    columns.clear();
+    columns.push_back(static_cast<int>(f)); // a face always has its diagonal (alpha I)
+    for (int k = this->FaceEdgePtr[f]; k < this->FaceEdgePtr[f + 1]; ++k)
     {
-      return this->Column != o.Column ? this->Column < o.Column : this->Edge < o.Edge;
-    }
-  };
-  auto rowEntries = [&](std::int64_t f, std::vector<Entry>& entries) {
-    entries.clear();
-    for (std::int64_t k = faceEdgePtr[f]; k < faceEdgePtr[f + 1]; ++k)
-    {
-      const int e = faceEdges[k];
+      const int e = this->FaceEdges[k];
       if (this->EdgeFacePtr[e + 1] - this->EdgeFacePtr[e] < 2)
       {
         continue; // boundary edge: no jump (see the header)
       }
-      for (std::int64_t i = this->EdgeFacePtr[e]; i < this->EdgeFacePtr[e + 1]; ++i)
-      {
-        entries.push_back({ this->EdgeFaces[i], e,
-          static_cast<signed char>(faceSigns[k] * this->EdgeFaceSigns[i]) });
-      }
+      columns.insert(columns.end(), this->EdgeFaces.begin() + this->EdgeFacePtr[e],
+        this->EdgeFaces.begin() + this->EdgeFacePtr[e + 1]);
     }
-    // A face always has its diagonal, even with no edge (alpha I).
-    entries.push_back({ static_cast<int>(f), -1, 0 });
-    std::sort(entries.begin(), entries.end());
+    std::sort(columns.begin(), columns.end());
+    columns.erase(std::unique(columns.begin(), columns.end()), columns.end());
   };
-  std::vector<std::int64_t> rowNnz(nf), rowContrib(nf);
+  std::vector<int> rowPtr(nf);
   vtkSMPTools::For(0, nf, [&](std::int64_t fb, std::int64_t fe) {
-    std::vector<Entry> entries;
+    std::vector<int> columns;
     for (std::int64_t f = fb; f < fe; ++f)
     {
-      rowEntries(f, entries);
-      std::int64_t n = 0;
-      for (std::size_t j = 0; j < entries.size(); ++j)
-      {
-        n += j == 0 || entries[j].Column != entries[j - 1].Column;
-      }
-      rowNnz[f] = n;
-      rowContrib[f] = static_cast<std::int64_t>(entries.size()) - 1;
+      rowColumns(f, columns);
+      rowPtr[f] = static_cast<int>(columns.size());
     }
   });
-  const std::int64_t nnzU = PrefixSum(rowNnz);
-  const std::int64_t nContrib = PrefixSum(rowContrib);
-  std::vector<int> columns(nnzU);
-  this->UContribPtr.assign(nnzU + 1, 0);
-  this->UContribEdge.assign(nContrib, 0);
-  this->UContribCoef.assign(nContrib, 0);
-  this->UDiagonal.assign(nf, 0);
+  PrefixSum(rowPtr);
+  StartPattern(this->UPattern, nf, rowPtr);
+  int* uInner = this->UPattern.innerIndexPtr();
   vtkSMPTools::For(0, nf, [&](std::int64_t fb, std::int64_t fe) {
-    std::vector<Entry> entries;
+    std::vector<int> columns;
     for (std::int64_t f = fb; f < fe; ++f)
     {
-      rowEntries(f, entries);
-      std::int64_t k = rowNnz[f] - 1, c = rowContrib[f];
-      for (std::size_t j = 0; j < entries.size(); ++j)
+      rowColumns(f, columns);
+      std::copy(columns.begin(), columns.end(), uInner + rowPtr[f]);
+    }
+  });
+  std::vector<int>().swap(rowPtr);
+  AssignHuge(this->FaceEdgeCode, this->FaceEdges.size(), FaceEdgeGeneral);
+  vtkSMPTools::For(0, nf, [&](std::int64_t fb, std::int64_t fe) {
+    for (std::int64_t f = fb; f < fe; ++f)
+    {
+      const int* r0 = uInner + this->UPattern.outerIndexPtr()[f];
+      const int* r1 = uInner + this->UPattern.outerIndexPtr()[f + 1];
+      for (int j = this->FaceEdgePtr[f]; j < this->FaceEdgePtr[f + 1]; ++j)
       {
-        if (j == 0 || entries[j].Column != entries[j - 1].Column)
+        const int e = this->FaceEdges[j], i0 = this->EdgeFacePtr[e];
+        const int n = this->EdgeFacePtr[e + 1] - i0;
+        if (n < 2)
         {
-          ++k;
-          columns[k] = entries[j].Column;
-          this->UContribPtr[k] = c;
-          if (entries[j].Column == f)
-          {
-            this->UDiagonal[f] = static_cast<int>(k);
-          }
+          this->FaceEdgeCode[j] = FaceEdgeBoundary;
+          continue;
         }
-        if (entries[j].Edge >= 0)
+        const int self = this->EdgeFaces[i0] == f ? i0 : i0 + 1, other = 2 * i0 + 1 - self;
+        const signed char sf = this->EdgeFaceSigns[self], so = this->EdgeFaceSigns[other];
+        const std::ptrdiff_t pos = std::lower_bound(r0, r1, this->EdgeFaces[other]) - r0;
+        if (n == 2 && (sf == 1 || sf == -1) && (so == 1 || so == -1) && pos < 16)
         {
-          this->UContribEdge[c] = entries[j].Edge;
-          this->UContribCoef[c] = entries[j].Coef;
-          ++c;
+          this->FaceEdgeCode[j] =
+            static_cast<unsigned char>(pos | (sf < 0 ? 0x10 : 0) | (so < 0 ? 0x20 : 0));
         }
       }
     }
   });
-  this->UContribPtr[nnzU] = nContrib;
-  SetPattern(this->UPattern, nf, rowNnz, columns);
 
-  // v-system: the vertex graph plus the diagonal. Edges are unique vertex
-  // pairs, so each off-diagonal entry comes from exactly one edge.
-  std::vector<std::int64_t> vPtr(nv);
+  // v-system: the vertex graph plus the diagonal. A vertex's edges give its
+  // neighbours ascending (see the header): no sort.
+  std::vector<int> vPtr(nv);
   for (std::int64_t v = 0; v < nv; ++v)
   {
     vPtr[v] = this->VertexEdgePtr[v + 1] - this->VertexEdgePtr[v] + 1;
   }
-  const std::int64_t nnzV = PrefixSum(vPtr);
-  std::vector<int> vColumns(nnzV);
-  this->VEdge.assign(nnzV, -1);
+  PrefixSum(vPtr);
+  StartPattern(this->VPattern, nv, vPtr);
+  int* vInner = this->VPattern.innerIndexPtr();
   vtkSMPTools::For(0, nv, [&](std::int64_t vb, std::int64_t ve) {
-    std::vector<std::pair<int, int>> row;
     for (std::int64_t v = vb; v < ve; ++v)
     {
-      row.clear();
-      row.push_back({ static_cast<int>(v), -1 });
-      for (std::int64_t k = this->VertexEdgePtr[v]; k < this->VertexEdgePtr[v + 1]; ++k)
+      int k = vPtr[v];
+      bool diagonal = false;
+      for (int j = this->VertexEdgePtr[v]; j < this->VertexEdgePtr[v + 1]; ++j)
       {
-        const int e = this->VertexEdges[k];
+        const int e = this->VertexEdges[j];
         const int a = this->EdgeVertices[2 * e], b = this->EdgeVertices[2 * e + 1];
-        row.push_back({ a == v ? b : a, e });
+        const int other = a == v ? b : a;
+        if (!diagonal && other > v)
+        {
+          vInner[k++] = static_cast<int>(v);
+          diagonal = true;
+        }
+        vInner[k++] = other;
       }
-      std::sort(row.begin(), row.end());
-      for (std::size_t j = 0; j < row.size(); ++j)
+      if (!diagonal)
       {
-        vColumns[vPtr[v] + j] = row[j].first;
-        this->VEdge[vPtr[v] + j] = row[j].second;
+        vInner[k] = static_cast<int>(v);
       }
     }
   });
-  SetPattern(this->VPattern, nv, vPtr, vColumns);
 }
 
 namespace
@@ -358,12 +370,39 @@ void ATComplex::Memory(ATMemoryParts& parts) const
     Bytes(this->EdgeFacePtr) + Bytes(this->EdgeFaces) + Bytes(this->EdgeFaceSigns));
   parts.emplace_back(
     "complex: vertex -> edges (ptr, edges)", Bytes(this->VertexEdgePtr) + Bytes(this->VertexEdges));
+  parts.emplace_back("complex: face -> edges (ptr, edges, codes; u assembly)",
+    Bytes(this->FaceEdgePtr) + Bytes(this->FaceEdges) + Bytes(this->FaceEdgeCode));
   parts.emplace_back("complex: u pattern (zero values + indices)", MatrixBytes(this->UPattern));
-  parts.emplace_back("complex: u assembly map (ptr, edge, coefficient, diagonal)",
-    Bytes(this->UContribPtr) + Bytes(this->UContribEdge) + Bytes(this->UContribCoef) +
-      Bytes(this->UDiagonal));
   parts.emplace_back("complex: v pattern (zero values + indices)", MatrixBytes(this->VPattern));
-  parts.emplace_back("complex: v edge of each non-zero", Bytes(this->VEdge));
+}
+
+void AdviseHugePages(const void* p, std::size_t bytes)
+{
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  // Opt-in (DG_AT_HUGEPAGES=1): on the "vm" machine huge pages made the
+  // first touch 2-40x cheaper but the later phases slower under load
+  // (octa-flower: factorisation 0.55-0.65 -> 1.4-1.6 s, assembly 0.9-1.2
+  // -> 1.35-1.8 s, at load ~5; docs/at-speed.md), so the default is off.
+  static const bool on = [] {
+    const char* e = std::getenv("DG_AT_HUGEPAGES");
+    return e && e[0] == '1';
+  }();
+  if (!on)
+  {
+    return;
+  }
+  constexpr std::uintptr_t huge = std::uintptr_t(1) << 21;
+  const std::uintptr_t begin = (reinterpret_cast<std::uintptr_t>(p) + huge - 1) & ~(huge - 1);
+  const std::uintptr_t end = (reinterpret_cast<std::uintptr_t>(p) + bytes) & ~(huge - 1);
+  if (p && end > begin)
+  {
+    // Advice only: a refusal (old kernel, THP off) leaves 4 KiB pages.
+    madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+  }
+#else
+  (void)p;
+  (void)bytes;
+#endif
 }
 
 ATSparse ATComplex::MatrixA() const

@@ -43,6 +43,28 @@ using ATMemoryParts = std::vector<std::pair<std::string, std::size_t>>;
 /// Bytes of a sparse matrix's values, inner indices and column starts.
 std::size_t MatrixBytes(const ATSystemMatrix& m);
 
+/// With DG_AT_HUGEPAGES=1 in the environment, asks the kernel to back the
+/// 2 MiB-aligned part of [p, p + bytes) with transparent huge pages
+/// (madvise MADV_HUGEPAGE; Linux only); otherwise does nothing. Call it on
+/// a fresh allocation before writing it. On the "vm" machine a first touch
+/// costs 13-16 us per 4 KiB page (AT's ~470 MB on octa-flower 512^3: about
+/// 1.5 s of page faults), which huge pages cut, but the later phases then
+/// ran slower there under load: opt-in until that is understood
+/// (docs/at-speed.md). Only the advice changes, never the results.
+void AdviseHugePages(const void* p, std::size_t bytes);
+/// v = n copies of value, the new storage advised as above first.
+template <class T>
+void AssignHuge(std::vector<T>& v, std::size_t n, const T& value)
+{
+  if (v.capacity() < n)
+  {
+    std::vector<T>().swap(v);
+    v.reserve(n);
+    AdviseHugePages(v.data(), n * sizeof(T));
+  }
+  v.assign(n, value);
+}
+
 /// Combinatorics of a polygonal complex: faces, unique edges and their
 /// incidences, plus the fixed sparsity patterns of both AT systems.
 class ATComplex
@@ -61,13 +83,30 @@ public:
 
   /// 2 per edge: low id, high id (the edge's orientation runs low -> high).
   std::vector<int> EdgeVertices;
-  /// Edge -> incident faces with the sign of B (CSR, faces ascending).
-  std::vector<std::int64_t> EdgeFacePtr;
+  /// Edge -> incident faces with the sign of B (CSR, faces ascending). The
+  /// offsets are int: they count at most the polygons' sides, which Build
+  /// bounds by 2^30.
+  std::vector<int> EdgeFacePtr;
   std::vector<int> EdgeFaces;
   std::vector<signed char> EdgeFaceSigns;
-  /// Vertex -> incident edges (CSR, edges ascending).
-  std::vector<std::int64_t> VertexEdgePtr;
+  /// Vertex -> incident edges (CSR, edges ascending). As edges are numbered
+  /// by (low, high), a vertex's neighbours come out ascending in this order:
+  /// row a of VPattern is its edges' other ends with a inserted in order,
+  /// which is how the v-assembly finds the edge of each non-zero.
+  std::vector<int> VertexEdgePtr;
   std::vector<int> VertexEdges;
+  /// Face -> its edges (CSR, edges ascending): the transpose of edge ->
+  /// faces, which the u-assembly walks (the signs are read from there).
+  std::vector<int> FaceEdgePtr;
+  std::vector<int> FaceEdges;
+  /// For each FaceEdges entry (face f, edge e), how e enters row f of the
+  /// u-system when e has exactly 2 faces f, g with signs +-1 (the digital
+  /// surfaces' only case): the position of g in the row (low 4 bits), f's
+  /// sign negative (bit 4), g's sign negative (bit 5). FaceEdgeBoundary
+  /// marks a boundary edge (no term), FaceEdgeGeneral any other edge
+  /// (ATSolver::AssembleU then reads the incidences).
+  std::vector<unsigned char> FaceEdgeCode;
+  static constexpr unsigned char FaceEdgeBoundary = 0x40, FaceEdgeGeneral = 0x80;
 
   /// The operators of MATH.md section 2, as sparse matrices (for tests, the
   /// energy and external use; the solver works from the arrays above).
@@ -85,21 +124,16 @@ public:
   /// The bytes of every array above, by name.
   void Memory(ATMemoryParts& parts) const;
 
-  /// Pattern of the u-system alpha I + B^T diag(w) B (F x F) and, for every
-  /// stored non-zero k, the contributions w[ContribEdge[j]] * ContribCoef[j]
-  /// for j in [UContribPtr[k], UContribPtr[k+1]). The coefficients are
-  /// products of two signs of B, so +1 or -1: one byte each.
+  /// Pattern of the u-system alpha I + B^T diag(w) B (F x F): row f holds f
+  /// and every face sharing an interior edge with f, columns ascending. Its
+  /// values are assembled from FaceEdges and EdgeFaces (ATSolver::AssembleU):
+  /// no per-non-zero map is stored (it took 84 bytes per face).
   ATSystemMatrix UPattern;
-  std::vector<std::int64_t> UContribPtr;
-  std::vector<int> UContribEdge;
-  std::vector<signed char> UContribCoef;
-  std::vector<int> UDiagonal; // index of (f, f) in UPattern's value array
 
-  /// Pattern of the v-system (N x N): the vertex graph plus the diagonal;
-  /// VEdge[k] is the edge joining the two vertices of non-zero k, or -1 on
-  /// the diagonal.
+  /// Pattern of the v-system (N x N): the vertex graph plus the diagonal
+  /// (the k-th off-diagonal entry of row a comes from VertexEdges' k-th edge
+  /// of a, see above).
   ATSystemMatrix VPattern;
-  std::vector<int> VEdge;
 
 private:
   void BuildSystemPatterns();

@@ -104,18 +104,64 @@ ATSolver::ATSolver(ATComplex& complex, const ATParameters& parameters, TakePatte
 
 ATSolver::~ATSolver() = default;
 
+namespace
+{
+// Fresh storage is advised to huge pages before it is first written
+// (AdviseHugePages, dgATOperators.h); storage of the right size is reused.
+void ResizeHuge(Eigen::MatrixXd& m, Eigen::Index rows, Eigen::Index cols)
+{
+  if (m.rows() != rows || m.cols() != cols)
+  {
+    m.resize(rows, cols);
+    AdviseHugePages(m.data(), static_cast<std::size_t>(m.size()) * sizeof(double));
+  }
+}
+void ResizeHuge(std::vector<double>& v, std::size_t n)
+{
+  if (v.capacity() < n)
+  {
+    std::vector<double>().swap(v);
+    v.reserve(n);
+    AdviseHugePages(v.data(), n * sizeof(double));
+  }
+  v.resize(n);
+}
+} // namespace
+
 void ATSolver::Initialize(const Eigen::MatrixXd& field)
 {
-  this->g = field;
+  ResizeHuge(this->u, field.rows(), field.cols());
   this->u = field;
-  this->URhs = this->Params.Alpha * field;
+  this->InitializeFromU();
+}
+
+void ATSolver::Initialize(Eigen::MatrixXd&& field)
+{
+  this->u = std::move(field);
+  this->InitializeFromU();
+}
+
+// u = g on entry. g itself is not kept: the u right-hand sides alpha g (times
+// the face areas with a metric) are computed from u before any step, so
+// bitwise what they were from g, and Energy recovers g from them.
+void ATSolver::InitializeFromU()
+{
+  ResizeHuge(this->URhs, this->u.rows(), this->u.cols());
+  this->URhs = this->Params.Alpha * this->u;
   if (this->Metric)
   {
-    const Eigen::Map<const Eigen::VectorXd> area(this->Metric->FaceArea.data(), field.rows());
+    const Eigen::Map<const Eigen::VectorXd> area(this->Metric->FaceArea.data(), this->u.rows());
     this->URhs = this->URhs.array().colwise() * area.array();
   }
-  this->v = Eigen::VectorXd::Ones(this->Complex.NumberOfVertices());
+  const Eigen::Index nv = this->Complex.NumberOfVertices();
+  if (this->v.size() != nv)
+  {
+    this->v.resize(nv);
+    AdviseHugePages(this->v.data(), static_cast<std::size_t>(nv) * sizeof(double));
+  }
+  this->v.setOnes();
   this->VRhs.resize(0, 0);
+  this->LastVChange = 0;
 }
 
 void ATSolver::AssembleU()
@@ -124,7 +170,7 @@ void ATSolver::AssembleU()
   const std::int64_t ne = K.NumberOfEdges(), nf = K.NumberOfFaces();
   // w(e) = ((M v)_e)^2, the weight of edge e in B^T diag(Mv)^2 B.
   std::vector<double>& w = this->EdgeWork;
-  w.resize(ne);
+  ResizeHuge(w, static_cast<std::size_t>(ne));
   const double* ratio = this->Metric ? this->Metric->EdgeRatio.data() : nullptr;
   const double* faceArea = this->Metric ? this->Metric->FaceArea.data() : nullptr;
   ForBlocks(ne,
@@ -138,23 +184,63 @@ void ATSolver::AssembleU()
       }
     });
   const int* outer = this->UM.outerIndexPtr();
+  const int* inner = this->UM.innerIndexPtr();
   double* val = this->UM.valuePtr();
   const double alpha = this->Params.Alpha;
+  // Entry (f, g) = sum over the interior edges e shared by f and g, in
+  // ascending order, of s_f(e) s_g(e) w(e), then alpha (or alpha |f|) on the
+  // diagonal: walking f's edges ascending adds the terms in that order, as
+  // the per-non-zero map that this replaced did (bitwise the same values;
+  // the coefficients are exact small integers, so c * w is exact).
+  static constexpr double sign[2] = { 1.0, -1.0 };
   ForBlocks(nf,
     [&](std::int64_t, std::int64_t f0, std::int64_t f1)
     {
       for (std::int64_t f = f0; f < f1; ++f)
       {
-        for (int k = outer[f]; k < outer[f + 1]; ++k)
+        const int r0 = outer[f], r1 = outer[f + 1];
+        std::fill(val + r0, val + r1, 0.0);
+        int d = r0; // the diagonal's position: branch-free count (rows are short)
+        for (int k = r0; k < r1; ++k)
         {
-          double s = 0;
-          for (std::int64_t j = K.UContribPtr[k]; j < K.UContribPtr[k + 1]; ++j)
-          {
-            s += static_cast<double>(K.UContribCoef[j]) * w[K.UContribEdge[j]];
-          }
-          val[k] = s;
+          d += inner[k] < f;
         }
-        val[K.UDiagonal[f]] += faceArea ? alpha * faceArea[f] : alpha;
+        for (int j = K.FaceEdgePtr[f]; j < K.FaceEdgePtr[f + 1]; ++j)
+        {
+          const unsigned char code = K.FaceEdgeCode[j];
+          if (code == ATComplex::FaceEdgeBoundary)
+          {
+            continue; // boundary edge: no jump (dgATOperators.h)
+          }
+          const int e = K.FaceEdges[j];
+          const double we = w[e];
+          if (code != ATComplex::FaceEdgeGeneral)
+          {
+            // Two faces, signs +-1: s_f^2 = 1 on the diagonal, s_f s_g at g.
+            val[d] += we;
+            // The product of two random signs: a table, not a branch.
+            val[r0 + (code & 15)] += sign[((code >> 4) ^ (code >> 5)) & 1] * we;
+            continue;
+          }
+          const int i0 = K.EdgeFacePtr[e], i1 = K.EdgeFacePtr[e + 1];
+          signed char sf = 0; // f's sign on e
+          for (int i = i0; i < i1; ++i)
+          {
+            sf = K.EdgeFaces[i] == f ? K.EdgeFaceSigns[i] : sf;
+          }
+          // The edge's faces and the row's columns are both ascending.
+          int k = r0;
+          for (int i = i0; i < i1; ++i)
+          {
+            while (inner[k] != K.EdgeFaces[i])
+            {
+              ++k;
+            }
+            const auto coef = static_cast<signed char>(sf * K.EdgeFaceSigns[i]);
+            val[k] += static_cast<double>(coef) * we;
+          }
+        }
+        val[d] += faceArea ? alpha * faceArea[f] : alpha;
       }
     });
 }
@@ -166,7 +252,7 @@ void ATSolver::AssembleV(double epsilon)
   const int nc = static_cast<int>(this->u.cols());
   // q(e) = sum_i ((B u_i)_e)^2: the squared jump of u across edge e.
   std::vector<double>& q = this->EdgeWork;
-  q.resize(ne);
+  ResizeHuge(q, static_cast<std::size_t>(ne));
   const double* ratio = this->Metric ? this->Metric->EdgeRatio.data() : nullptr;
   const double* vertexArea = this->Metric ? this->Metric->VertexArea.data() : nullptr;
   ForBlocks(ne,
@@ -191,25 +277,28 @@ void ATSolver::AssembleV(double epsilon)
   const double lambda = this->Params.Lambda;
   const double diagConst = lambda / (4 * epsilon), lapl = lambda * epsilon;
   const int* outer = this->VM.outerIndexPtr();
+  const int* inner = this->VM.innerIndexPtr();
   double* val = this->VM.valuePtr();
   ForBlocks(nv,
     [&](std::int64_t, std::int64_t a0, std::int64_t a1)
     {
       for (std::int64_t a = a0; a < a1; ++a)
       {
+        // Row a's off-diagonal entries are a's edges in order (dgATOperators.h).
+        int j = K.VertexEdgePtr[a];
         for (int k = outer[a]; k < outer[a + 1]; ++k)
         {
-          const int e = K.VEdge[k];
-          if (e >= 0)
+          if (inner[k] != a)
           {
+            const int e = K.VertexEdges[j++];
             val[k] = (ratio ? -lapl / ratio[e] : -lapl) + 0.25 * q[e];
           }
           else if (!ratio)
           {
             double s = 0;
-            for (std::int64_t j = K.VertexEdgePtr[a]; j < K.VertexEdgePtr[a + 1]; ++j)
+            for (int i = K.VertexEdgePtr[a]; i < K.VertexEdgePtr[a + 1]; ++i)
             {
-              s += q[K.VertexEdges[j]];
+              s += q[K.VertexEdges[i]];
             }
             val[k] = diagConst + lapl * (K.VertexEdgePtr[a + 1] - K.VertexEdgePtr[a]) + 0.25 * s;
           }
@@ -217,10 +306,10 @@ void ATSolver::AssembleV(double epsilon)
           {
             // The world metric: dual area, Laplacian weights |e*| / |e|.
             double s = 0, l = 0;
-            for (std::int64_t j = K.VertexEdgePtr[a]; j < K.VertexEdgePtr[a + 1]; ++j)
+            for (int i = K.VertexEdgePtr[a]; i < K.VertexEdgePtr[a + 1]; ++i)
             {
-              s += q[K.VertexEdges[j]];
-              l += 1.0 / ratio[K.VertexEdges[j]];
+              s += q[K.VertexEdges[i]];
+              l += 1.0 / ratio[K.VertexEdges[i]];
             }
             val[k] = diagConst * vertexArea[a] + lapl * l + 0.25 * s;
           }
@@ -306,7 +395,8 @@ bool ATSolver::StepV(double epsilon)
   const double rhs = this->Params.Lambda / (4 * epsilon);
   if (this->VRhs.rows() != this->v.size() || this->VRhs.size() == 0 || this->VRhsEpsilon != epsilon)
   {
-    this->VRhs.setConstant(this->v.size(), 1, rhs);
+    ResizeHuge(this->VRhs, this->v.size(), 1);
+    this->VRhs.setConstant(rhs);
     if (this->Metric)
     {
       this->VRhs.col(0).array() *=
@@ -314,10 +404,19 @@ bool ATSolver::StepV(double epsilon)
     }
     this->VRhsEpsilon = epsilon;
   }
-  this->VX = this->v;
+  ResizeHuge(this->VX, this->v.size(), 1);
+  this->VX.col(0) = this->v;
   const bool ok = this->SolveSystem(*this->VSystem, this->VM, this->VRhs, this->VX, "v-step");
+  // The stopping rule's max |v - v_prev| over the owned rows, taken here
+  // where both are at hand (Run kept a copy of v for it: 8 bytes a vertex).
+  this->LastVChange = 0;
   if (ok)
   {
+    const std::int64_t owned = this->Distribution ? this->Distribution->Owned(1) : this->v.size();
+    if (owned > 0)
+    {
+      this->LastVChange = (this->VX.col(0).head(owned) - this->v.head(owned)).lpNorm<Eigen::Infinity>();
+    }
     this->v = this->VX.col(0);
   }
   return ok;
@@ -326,8 +425,8 @@ bool ATSolver::StepV(double epsilon)
 void ATSolver::Memory(ATMemoryParts& parts) const
 {
   auto dense = [](const Eigen::MatrixXd& m) { return static_cast<std::size_t>(m.size()) * sizeof(double); };
-  parts.emplace_back("solver: g, u (field copies)", dense(this->g) + dense(this->u));
-  parts.emplace_back("solver: u right-hand sides", dense(this->URhs));
+  parts.emplace_back("solver: u", dense(this->u));
+  parts.emplace_back("solver: u right-hand sides (alpha g; g is not kept)", dense(this->URhs));
   parts.emplace_back("solver: v, v right-hand side, v unknown",
     static_cast<std::size_t>(this->v.size()) * sizeof(double) + dense(this->VRhs) + dense(this->VX));
   parts.emplace_back("solver: per-edge work", this->EdgeWork.capacity() * sizeof(double));
@@ -348,7 +447,7 @@ double ATSolver::Energy(double epsilon) const
   const ATComplex& K = this->Complex;
   const std::int64_t nf = K.NumberOfFaces(), ne = K.NumberOfEdges(), nv = K.NumberOfVertices();
   const int nc = static_cast<int>(this->u.cols());
-  const double lambda = this->Params.Lambda;
+  const double lambda = this->Params.Lambda, alpha = this->Params.Alpha;
   double total = 0;
   {
     const std::int64_t nb = NumberOfBlocks(nf);
@@ -359,8 +458,12 @@ double ATSolver::Energy(double epsilon) const
         double s = 0;
         for (std::int64_t f = f0; f < f1; ++f)
         {
-          const double d = (this->u.row(f) - this->g.row(f)).squaredNorm();
-          s += this->Metric ? this->Metric->FaceArea[f] * d : d;
+          // g = URhs / (alpha |f|), to rounding (see InitializeFromU).
+          const double w = this->Metric ? this->Metric->FaceArea[f] : 1.0;
+          if (w > 0)
+          {
+            s += w * (this->u.row(f) - this->URhs.row(f) / (alpha * w)).squaredNorm();
+          }
         }
         part[b] = s;
       });
@@ -434,7 +537,7 @@ void ATSolver::NormalizeU()
     });
 }
 
-bool ATSolver::Run(const Eigen::MatrixXd& field, const ATProgressCallback& progress)
+bool ATSolver::Prepare(const Eigen::MatrixXd& field)
 {
   this->Stats = ATStatistics();
   this->WarningList.clear();
@@ -476,8 +579,31 @@ bool ATSolver::Run(const Eigen::MatrixXd& field, const ATProgressCallback& progr
   }
   this->USystem.reset();
   this->VSystem.reset();
-  this->Initialize(field);
+  return true;
+}
 
+bool ATSolver::Run(const Eigen::MatrixXd& field, const ATProgressCallback& progress)
+{
+  if (!this->Prepare(field))
+  {
+    return false;
+  }
+  this->Initialize(field);
+  return this->Schedule(progress);
+}
+
+bool ATSolver::Run(Eigen::MatrixXd&& field, const ATProgressCallback& progress)
+{
+  if (!this->Prepare(field))
+  {
+    return false;
+  }
+  this->Initialize(std::move(field));
+  return this->Schedule(progress);
+}
+
+bool ATSolver::Schedule(const ATProgressCallback& progress)
+{
   // The schedule eps_1, eps_1 / r, ... down to eps_2 (a relative slack so
   // that 2 -> 0.25 by 2 or 1 -> 0.1 by 10 include their last level).
   std::vector<double> levels;
@@ -493,15 +619,10 @@ bool ATSolver::Run(const Eigen::MatrixXd& field, const ATProgressCallback& progr
     ++this->Stats.Levels;
     for (int it = 0; it < this->Params.MaximumIterations; ++it)
     {
-      const Eigen::VectorXd vPrev = this->v;
       this->StepU();
       this->StepV(levels[l]);
       ++this->Stats.Iterations;
-      const std::int64_t owned =
-        this->Distribution ? this->Distribution->Owned(1) : this->v.size();
-      double change = owned > 0
-        ? (this->v.head(owned) - vPrev.head(owned)).lpNorm<Eigen::Infinity>()
-        : 0.0;
+      double change = this->LastVChange;
       if (this->Distribution)
       {
         change = this->Distribution->MaxAll(change);

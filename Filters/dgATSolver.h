@@ -3,8 +3,8 @@
 // SPD linear systems, the epsilon schedule and the energy.
 //
 // Both system matrices keep the sparsity pattern built once by ATComplex;
-// each iteration only recomputes their values (a gather per stored non-zero,
-// parallel and deterministic), so a direct solver analyses (orders) once and
+// each iteration only recomputes their values (row by row from the complex's
+// incidences, parallel and deterministic), so a direct solver analyses (orders) once and
 // refactorises numerically, and the iterative solver just reads the values.
 //
 // Linear solvers (ATLinearSolver):
@@ -173,12 +173,18 @@ public:
   /// parameters are invalid (see Error()). Solver failures do not stop the
   /// run: the step keeps the previous values and Warnings() says so.
   bool Run(const Eigen::MatrixXd& g, const ATProgressCallback& progress = ATProgressCallback());
+  /// The same, taking g instead of copying it (F x C doubles that the caller
+  /// would otherwise hold beside the solver's copy; g is left empty or with
+  /// unspecified contents).
+  bool Run(Eigen::MatrixXd&& g, const ATProgressCallback& progress = ATProgressCallback());
 
   /// Single steps, for tests: Initialize sets u = g, v = 1.
   void Initialize(const Eigen::MatrixXd& g);
+  void Initialize(Eigen::MatrixXd&& g);
   bool StepU();
   bool StepV(double epsilon);
-  /// AT_epsilon(u, v) of MATH.md section 3 for the current u, v.
+  /// AT_epsilon(u, v) of MATH.md section 3 for the current u, v (g is
+  /// recovered from the u right-hand sides alpha g, so to rounding).
   double Energy(double epsilon) const;
   /// Normalises every row of u to unit length (zero rows are left as they are).
   void NormalizeU();
@@ -202,6 +208,9 @@ public:
   const std::string& Error() const { return this->ErrorText; }
 
 private:
+  bool Prepare(const Eigen::MatrixXd& field);
+  bool Schedule(const ATProgressCallback& progress);
+  void InitializeFromU();
   bool SolveSystem(ATLinearSystem& system,
     const ATSystemMatrix& m,
     const Eigen::MatrixXd& b,
@@ -211,9 +220,10 @@ private:
   const ATDistribution* Distribution = nullptr;
   const ATMetric* Metric = nullptr;
   double VRhsEpsilon = 0; // the epsilon VRhs was made for
+  double LastVChange = 0; // max |v - v_prev| of the last StepV (owned rows)
   ATParameters Params;
   ATStatistics Stats;
-  Eigen::MatrixXd g, u;
+  Eigen::MatrixXd u;
   Eigen::VectorXd v;
   // Right-hand sides (alpha g; lambda / (4 eps) for the current eps) and the
   // v-step's unknown as a matrix, kept between steps.

@@ -292,6 +292,7 @@ int vtkAmbrosioTortorelliFilter::RequestData(vtkInformation*,
   const char* fieldName = field->GetName() ? field->GetName() : "(unnamed)";
 
   Eigen::MatrixXd g(nFaces, nc);
+  dg::AdviseHugePages(g.data(), static_cast<std::size_t>(g.size()) * sizeof(double));
   std::atomic<vtkIdType> badValue(-1), zeroVector(-1), notUnit(-1);
   {
     const auto tuples = vtk::DataArrayTupleRange(field);
@@ -495,7 +496,11 @@ int vtkAmbrosioTortorelliFilter::Internals::Solve(vtkAmbrosioTortorelliFilter* s
   }
 
   // Plain buffers for the core.
-  std::vector<std::int64_t> offsets(nFaces + 1), connectivity(polys->GetNumberOfConnectivityIds());
+  // Advised to huge pages before the first write (dg::AdviseHugePages).
+  std::vector<std::int64_t> offsets, connectivity;
+  dg::AssignHuge(offsets, static_cast<std::size_t>(nFaces + 1), std::int64_t(0));
+  dg::AssignHuge(
+    connectivity, static_cast<std::size_t>(polys->GetNumberOfConnectivityIds()), std::int64_t(0));
   {
     const auto off = vtk::DataArrayValueRange<1>(polys->GetOffsetsArray());
     const auto conn = vtk::DataArrayValueRange<1>(polys->GetConnectivityArray());
@@ -581,7 +586,8 @@ int vtkAmbrosioTortorelliFilter::Internals::Solve(vtkAmbrosioTortorelliFilter* s
   {
     solver.SetMetric(&metric);
   }
-  const bool done = solver.Run(g, [self](double f) {
+  // g is not read after the solve: the solver takes it instead of a copy.
+  const bool done = solver.Run(std::move(g), [self](double f) {
     self->UpdateProgress(0.1 + 0.85 * f);
     return !self->GetAbortExecute();
   });

@@ -240,7 +240,7 @@ int vtkAmbrosioTortorelliFilter::RequestDataPieces(vtkMultiProcessController* co
   {
     solver.SetMetric(&metric);
   }
-  const bool done = solver.Run(localG, [this](double f) {
+  const bool done = solver.Run(std::move(localG), [this](double f) {
     this->UpdateProgress(0.1 + 0.85 * f);
     return true;
   });
