@@ -223,6 +223,16 @@ public:
             }
             d[i] = di;
           }
+          // C = L D^(1/2) for this block's rows, while they are in cache.
+          for (std::int64_t i = lo; blockOk[blk] && i < this->Blocks[blk + 1]; ++i)
+          {
+            d[i] = std::sqrt(d[i]);
+            this->InvC[i] = static_cast<float>(1.0 / d[i]);
+            for (std::int64_t kk = this->LPtr[i]; kk < this->LPtr[i + 1]; ++kk)
+            {
+              lij[kk] = static_cast<float>(lij[kk] * d[this->LCol[kk]]);
+            }
+          }
         }
       });
     if (std::find(blockOk.begin(), blockOk.end(), 0) != blockOk.end())
@@ -231,23 +241,12 @@ public:
       std::fill(lij.begin(), lij.end(), 0.0f);
       for (std::int64_t i = 0; i < n; ++i)
       {
-        d[i] = diagonal(i);
-        if (!(d[i] > 0))
+        const double a = diagonal(i);
+        if (!(a > 0))
         {
           return false;
         }
-      }
-    }
-    for (std::int64_t i = 0; i < n; ++i)
-    {
-      d[i] = std::sqrt(d[i]);
-      this->InvC[i] = static_cast<float>(1.0 / d[i]);
-    }
-    for (std::int64_t i = 0; i < n; ++i)
-    {
-      for (std::int64_t kk = this->LPtr[i]; kk < this->LPtr[i + 1]; ++kk)
-      {
-        this->LVal[kk] = static_cast<float>(this->LVal[kk] * d[this->LCol[kk]]);
+        this->InvC[i] = static_cast<float>(1.0 / std::sqrt(a));
       }
     }
     return true;
