@@ -142,8 +142,15 @@ with one process).
 [[noreturn]] void OptionError(const std::string& message)
 {
   if (PrintsCommonMessages())
+  {
     std::cerr << Program << ": " << message << " (see --help)\n";
-  std::exit(2);
+    std::exit(2);
+  }
+  // Under mpirun every rank finds the same error before MPI starts. The
+  // other ranks leave quietly with 0: had they exited with 2, mpirun could
+  // end rank 0 before it printed why (seen as an empty message under load).
+  // The job's status is rank 0's 2.
+  std::exit(0);
 }
 
 double ParseNumber(const std::string& option, const std::string& text)

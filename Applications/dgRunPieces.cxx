@@ -60,6 +60,9 @@ int RunPieces(Options opt, dg::Processes& procs)
                 << (size > 1 ? "rank " + std::to_string(rank) + " of " + std::to_string(size) + ": "
                              : std::string())
                 << message << "\n";
+    // Every rank leaves only once the message is out: a rank that exits
+    // first can make mpirun end the printing one before it has written.
+    procs.Barrier();
     return false;
   };
 
@@ -68,6 +71,7 @@ int RunPieces(Options opt, dg::Processes& procs)
     if (root)
       std::cerr << Program << ": --ply and --obj are not available with " << size
                 << " processes (convert the .pvtp afterwards)\n";
+    procs.Barrier(); // as in agreeOrFail
     return 2;
   }
   if (!opt.Labels.empty())
@@ -75,6 +79,7 @@ int RunPieces(Options opt, dg::Processes& procs)
     if (root)
       std::cerr << Program << ": --labels is not available with " << size
                 << " processes (run one process per label, or one process)\n";
+    procs.Barrier(); // as in agreeOrFail
     return 2;
   }
   if (root)
