@@ -3,6 +3,8 @@
 // parameter studies. Prints one line per case and method.
 //
 // Usage: BenchFeatureLines [--sizes 64] [--shapes cube,cube2,octahedron,cubesphere]
+//          (also cylinder, wedge, cubesphere-twin: cubesphere's volume voxel for
+//          voxel, with other true circles)
 //          [--noise 0,0.3] [--seeds 1,2] [--radius R] [--alpha A] [--lambda L]
 //          [--islands N (default 8, vtkDigitalIslandFilter; 0 = off)] [--depth D]
 //          [--min-region M] [--angle DEG] [--edge-angle DEG] [--beta B]
@@ -25,6 +27,7 @@
 #include <vtkCellData.h>
 #include <vtkIdList.h>
 #include <vtkDataArray.h>
+#include <vtkDoubleArray.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPolyData.h>
@@ -67,6 +70,22 @@ std::unique_ptr<dgtest::ImplicitShape> MakeShape(const std::string& name, int n)
     return dgtest::MakeRotatedCube(c, 0.26 * n, 35, 10, 50);
   if (name == "cubesphere")
     return dgtest::MakeCubeSphere(c, 0.3 * n, 0.38 * n);
+  if (name == "cubesphere-twin")
+  {
+    // cubesphere with each face moved to the other end of the interval of
+    // positions that leave the same voxels inside (the voxel centres are the
+    // integer points): the same volume, voxel for voxel, and other circles.
+    const double h = 0.3 * n;
+    std::array<double, 6> d;
+    for (int a = 0; a < 3; ++a)
+    {
+      const double hi = c[a] + h, lo = c[a] - h; // +a face: x <= hi; -a face: x >= lo
+      const double fh = hi - std::floor(hi), fl = std::ceil(lo) - lo;
+      d[2 * a] = (fh < 0.5 ? std::floor(hi) + 0.98 : std::floor(hi) + 0.02) - c[a];
+      d[2 * a + 1] = c[a] - (fl < 0.5 ? std::ceil(lo) - 0.98 : std::ceil(lo) - 0.02);
+    }
+    return dgtest::MakeCubeSphere(c, d, 0.38 * n);
+  }
   if (name == "octahedron")
     return dgtest::MakeOctahedron(c, 0.42 * n);
   if (name == "cylinder")
@@ -114,6 +133,8 @@ std::string Profile(const dgtest::ImplicitShape& shape, vtkPolyData* surface, co
     count[0], flatBad, outside);
   return out + buf;
 }
+vtkSmartPointer<vtkPolyData> LinesBetweenLabels(vtkPolyData* surface, const std::vector<int>& lab);
+
 // The lines an oracle would draw: faces labelled by their true normal (one
 // label per planar face of the shape, one for all curved parts), lines
 // between differently labelled faces. Where the truth itself changes on the
@@ -141,6 +162,57 @@ vtkSmartPointer<vtkPolyData> OracleLines(const dgtest::ImplicitShape& shape, vtk
       lab[i] = it->second;
     }
   }
+  return LinesBetweenLabels(surface, lab);
+}
+
+// Cube-sphere labelled by a model that knows the sphere exactly but each
+// disc's plane only as its digital surface shows it: every position of the
+// plane between two voxel centres gives the same volume, and the model takes
+// the plane at the faces' layer (the middle of that interval). Each face
+// takes the part whose constraint is the most violated (the nearest part of
+// a convex intersection) and that part's normal: the best a labelling can do
+// without knowing where in its voxel the plane lies.
+vtkSmartPointer<vtkPolyData> LayerOracle(int n, vtkPolyData* surface, bool atLayer)
+{
+  const V3 c = V3::Constant(0.5 * (n - 1)) + V3(0.13, 0.07, 0.11);
+  const double h = 0.3 * n, R = 0.38 * n;
+  double off[6];
+  for (int a = 0; a < 3; ++a)
+  {
+    off[2 * a] = atLayer ? std::floor(c[a] + h) + 0.5 - c[a] : h;
+    off[2 * a + 1] = atLayer ? c[a] - (std::ceil(c[a] - h) - 0.5) : h;
+  }
+  const auto centres = dgtest::SurfelCenters(surface);
+  std::vector<int> lab(centres.size());
+  vtkNew<vtkDoubleArray> normals;
+  normals->SetName("OracleNormals");
+  normals->SetNumberOfComponents(3);
+  normals->SetNumberOfTuples(static_cast<vtkIdType>(centres.size()));
+  for (std::size_t i = 0; i < centres.size(); ++i)
+  {
+    const V3 q = centres[i] - c;
+    int best = 6;
+    double value = q.norm() - R;
+    V3 nrm = q.normalized();
+    for (int k = 0; k < 6; ++k)
+    {
+      const double sgn = (k % 2) ? -1.0 : 1.0;
+      const double val = sgn * q[k / 2] - off[k];
+      if (val > value)
+      {
+        value = val, best = k;
+        nrm = sgn * V3::Unit(k / 2);
+      }
+    }
+    lab[i] = best;
+    normals->SetTuple3(static_cast<vtkIdType>(i), nrm.x(), nrm.y(), nrm.z());
+  }
+  surface->GetCellData()->AddArray(normals);
+  return LinesBetweenLabels(surface, lab);
+}
+
+vtkSmartPointer<vtkPolyData> LinesBetweenLabels(vtkPolyData* surface, const std::vector<int>& lab)
+{
   std::map<std::pair<vtkIdType, vtkIdType>, std::vector<vtkIdType>> edgeFaces;
   vtkCellArray* polys = surface->GetPolys();
   vtkNew<vtkIdList> ids;
@@ -254,6 +326,51 @@ int main(int argc, char* argv[])
       {
         std::fprintf(stderr, "unknown shape %s\n", name.c_str());
         return 2;
+      }
+      if (name == "cubesphere-twin")
+      {
+        const auto original = MakeShape("cubesphere", n);
+        auto a = dgtest::Digitize(*original, n);
+        auto b = dgtest::Digitize(*shape, n);
+        const auto* pa = static_cast<const unsigned char*>(a->GetScalarPointer());
+        const auto* pb = static_cast<const unsigned char*>(b->GetScalarPointer());
+        long long differ = 0;
+        for (vtkIdType i = 0; i < a->GetNumberOfPoints(); ++i)
+          differ += pa[i] != pb[i];
+        const auto& ea = original->SharpEdges();
+        double sum = 0;
+        const auto samples = shape->SharpEdgeSamples(0.25);
+        for (const auto& x : samples)
+          sum += ea.Distance(x, 10);
+        // Any normal field's errors against the two truths add up to at least
+        // the angle between them, face by face: max(error A, error B) within
+        // one voxel of the edges >= sum of those angles / (|S_A| + |S_B|).
+        vtkNew<vtkDigitalSurfaceFilter> ds;
+        ds->SetInputData(a);
+        ds->Update();
+        double angles = 0;
+        long long inA = 0, inB = 0;
+        auto near = [](const dgtest::ImplicitShape& sh, const V3& x, double& value) {
+          value = sh.Value(x);
+          return std::abs(value) <= 2.0 &&
+            sh.DistanceToSharpEdge(x - value * sh.Normal(x), 4.0) <= 1.0;
+        };
+        for (const V3& x : dgtest::SurfelCenters(ds->GetOutput()))
+        {
+          double va, vb;
+          const bool a1 = near(*original, x, va), b1 = near(*shape, x, vb);
+          inA += a1, inB += b1;
+          if (a1 && b1)
+          {
+            const double ang = dgtest::AngleDegrees(original->Normal(x), shape->Normal(x));
+            angles += std::min(ang, 180.0 - ang);
+          }
+        }
+        std::printf("cubesphere-twin %d: %lld voxels differ from cubesphere's volume; its circles lie %.2f "
+                    "voxels from cubesphere's on average (so no line set has offset below %.2f on both); "
+                    "no normal field has an error within 1 voxel of the edges below %.2f deg on both\n",
+          n, differ, samples.empty() ? 0.0 : sum / samples.size(),
+          samples.empty() ? 0.0 : 0.5 * sum / samples.size(), angles / std::max(1LL, inA + inB));
       }
       for (double k : noise)
         for (std::size_t si = 0; si < (k == 0 ? 1 : seeds.size()); ++si)
@@ -372,6 +489,16 @@ int main(int argc, char* argv[])
               *shape, surf->GetOutput(), "Normals", OracleLines(*shape, surf->GetOutput()));
             std::printf("%-10s %4d k %.1f s %d | oracle %s\n", name.c_str(), n, k, seeds[si],
               mO.Describe().c_str());
+            if (name.rfind("cubesphere", 0) == 0)
+              for (bool layer : { false, true })
+              {
+                vtkNew<vtkPolyData> copy;
+                copy->DeepCopy(surf->GetOutput());
+                auto lines = LayerOracle(n, copy, layer);
+                const auto mL = dgtest::MeasureFeatures(*shape, copy, "OracleNormals", lines);
+                std::printf("%-10s %4d k %.1f s %d | %s %s\n", name.c_str(), n, k, seeds[si],
+                  layer ? "layer-oracle" : "model-oracle", mL.Describe().c_str());
+              }
           }
           std::printf("%-10s %4d k %.1f s %d | AT    %s\n", name.c_str(), n, k, seeds[si],
             mAT.Describe().c_str());

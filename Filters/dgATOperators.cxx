@@ -7,10 +7,6 @@
 #include <cstdlib>
 #include <limits>
 
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
-
 namespace dg
 {
 namespace
@@ -48,8 +44,6 @@ void StartPattern(ATSystemMatrix& m, std::int64_t n, const std::vector<int>& ptr
 {
   m.resize(static_cast<int>(n), static_cast<int>(n));
   m.resizeNonZeros(static_cast<Eigen::Index>(ptr[n]));
-  AdviseHugePages(m.valuePtr(), static_cast<std::size_t>(ptr[n]) * sizeof(double));
-  AdviseHugePages(m.innerIndexPtr(), static_cast<std::size_t>(ptr[n]) * sizeof(int));
   std::copy(ptr.begin(), ptr.end(), m.outerIndexPtr());
   std::fill(m.valuePtr(), m.valuePtr() + ptr[n], 0.0);
 }
@@ -82,7 +76,7 @@ bool ATComplex::Build(std::int64_t numberOfVertices, const std::vector<std::int6
   // 1. Sides bucketed by their lower vertex. The fill is sequential (cheap),
   // the per-bucket sort makes the order independent of how it was filled.
   std::vector<int> bucket;
-  AssignHuge(bucket, static_cast<std::size_t>(nv), 0);
+  bucket.assign(static_cast<std::size_t>(nv), 0);
   for (std::int64_t f = 0; f < nFaces; ++f)
   {
     const std::int64_t b = offsets[f], e = offsets[f + 1];
@@ -108,7 +102,7 @@ bool ATComplex::Build(std::int64_t numberOfVertices, const std::vector<std::int6
   }
   const std::int64_t nSides = PrefixSum(bucket);
   std::vector<Side> sides;
-  AssignHuge(sides, static_cast<std::size_t>(nSides), Side{});
+  sides.assign(static_cast<std::size_t>(nSides), Side{});
   {
     std::vector<int> fill(bucket.begin(), bucket.end() - 1);
     for (std::int64_t f = 0; f < nFaces; ++f)
@@ -151,10 +145,10 @@ bool ATComplex::Build(std::int64_t numberOfVertices, const std::vector<std::int6
   {
     return fail("the complex is too large (more than 2^30 edges)");
   }
-  AssignHuge(this->EdgeVertices, static_cast<std::size_t>(2 * nEdges), 0);
-  AssignHuge(this->EdgeFacePtr, static_cast<std::size_t>(nEdges + 1), 0);
-  AssignHuge(this->EdgeFaces, static_cast<std::size_t>(nIncidences), 0);
-  AssignHuge(this->EdgeFaceSigns, static_cast<std::size_t>(nIncidences), static_cast<signed char>(0));
+  this->EdgeVertices.assign(static_cast<std::size_t>(2 * nEdges), 0);
+  this->EdgeFacePtr.assign(static_cast<std::size_t>(nEdges + 1), 0);
+  this->EdgeFaces.assign(static_cast<std::size_t>(nIncidences), 0);
+  this->EdgeFaceSigns.assign(static_cast<std::size_t>(nIncidences), static_cast<signed char>(0));
   vtkSMPTools::For(0, nv, [&](std::int64_t vb, std::int64_t ve) {
     for (std::int64_t v = vb; v < ve; ++v)
     {
@@ -186,7 +180,7 @@ bool ATComplex::Build(std::int64_t numberOfVertices, const std::vector<std::int6
   // 3. Vertex -> edges (filled in edge order, so ascending). A vertex's
   // edges as the lower end are the contiguous run edgeCount[v]...: only
   // the edges it ends are scattered.
-  AssignHuge(this->VertexEdgePtr, static_cast<std::size_t>(nv), 0);
+  this->VertexEdgePtr.assign(static_cast<std::size_t>(nv), 0);
   for (std::int64_t e = 0; e < nEdges; ++e)
   {
     ++this->VertexEdgePtr[this->EdgeVertices[2 * e + 1]];
@@ -196,7 +190,7 @@ bool ATComplex::Build(std::int64_t numberOfVertices, const std::vector<std::int6
     this->VertexEdgePtr[v] += edgeCount[v + 1] - edgeCount[v];
   }
   PrefixSum(this->VertexEdgePtr);
-  AssignHuge(this->VertexEdges, static_cast<std::size_t>(2 * nEdges), 0);
+  this->VertexEdges.assign(static_cast<std::size_t>(2 * nEdges), 0);
   {
     // Edges ending at v come first (their lower ends are below v), in edge
     // order; then v's own run.
@@ -228,13 +222,13 @@ void ATComplex::BuildSystemPatterns()
   const std::int64_t ne = this->NumberOfEdges();
 
   // Face -> edges, from the edge -> face incidences (ascending edges).
-  AssignHuge(this->FaceEdgePtr, static_cast<std::size_t>(nf), 0);
+  this->FaceEdgePtr.assign(static_cast<std::size_t>(nf), 0);
   for (int i = 0; i < this->EdgeFacePtr[ne]; ++i)
   {
     ++this->FaceEdgePtr[this->EdgeFaces[i]];
   }
   PrefixSum(this->FaceEdgePtr);
-  AssignHuge(this->FaceEdges, static_cast<std::size_t>(this->FaceEdgePtr[nf]), 0);
+  this->FaceEdges.assign(static_cast<std::size_t>(this->FaceEdgePtr[nf]), 0);
   {
     std::vector<int> fill(this->FaceEdgePtr.begin(), this->FaceEdgePtr.end() - 1);
     for (std::int64_t e = 0; e < ne; ++e)
@@ -286,7 +280,7 @@ void ATComplex::BuildSystemPatterns()
     }
   });
   std::vector<int>().swap(rowPtr);
-  AssignHuge(this->FaceEdgeCode, this->FaceEdges.size(), FaceEdgeGeneral);
+  this->FaceEdgeCode.assign(this->FaceEdges.size(), FaceEdgeGeneral);
   vtkSMPTools::For(0, nf, [&](std::int64_t fb, std::int64_t fe) {
     for (std::int64_t f = fb; f < fe; ++f)
     {
@@ -374,35 +368,6 @@ void ATComplex::Memory(ATMemoryParts& parts) const
     Bytes(this->FaceEdgePtr) + Bytes(this->FaceEdges) + Bytes(this->FaceEdgeCode));
   parts.emplace_back("complex: u pattern (zero values + indices)", MatrixBytes(this->UPattern));
   parts.emplace_back("complex: v pattern (zero values + indices)", MatrixBytes(this->VPattern));
-}
-
-void AdviseHugePages(const void* p, std::size_t bytes)
-{
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-  // Opt-in (DG_AT_HUGEPAGES=1): on the "vm" machine huge pages made the
-  // first touch 2-40x cheaper but the later phases slower under load
-  // (octa-flower: factorisation 0.55-0.65 -> 1.4-1.6 s, assembly 0.9-1.2
-  // -> 1.35-1.8 s, at load ~5; docs/at-speed.md), so the default is off.
-  static const bool on = [] {
-    const char* e = std::getenv("DG_AT_HUGEPAGES");
-    return e && e[0] == '1';
-  }();
-  if (!on)
-  {
-    return;
-  }
-  constexpr std::uintptr_t huge = std::uintptr_t(1) << 21;
-  const std::uintptr_t begin = (reinterpret_cast<std::uintptr_t>(p) + huge - 1) & ~(huge - 1);
-  const std::uintptr_t end = (reinterpret_cast<std::uintptr_t>(p) + bytes) & ~(huge - 1);
-  if (p && end > begin)
-  {
-    // Advice only: a refusal (old kernel, THP off) leaves 4 KiB pages.
-    madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
-  }
-#else
-  (void)p;
-  (void)bytes;
-#endif
 }
 
 ATSparse ATComplex::MatrixA() const

@@ -43,28 +43,6 @@ using ATMemoryParts = std::vector<std::pair<std::string, std::size_t>>;
 /// Bytes of a sparse matrix's values, inner indices and column starts.
 std::size_t MatrixBytes(const ATSystemMatrix& m);
 
-/// With DG_AT_HUGEPAGES=1 in the environment, asks the kernel to back the
-/// 2 MiB-aligned part of [p, p + bytes) with transparent huge pages
-/// (madvise MADV_HUGEPAGE; Linux only); otherwise does nothing. Call it on
-/// a fresh allocation before writing it. On the "vm" machine a first touch
-/// costs 13-16 us per 4 KiB page (AT's ~470 MB on octa-flower 512^3: about
-/// 1.5 s of page faults), which huge pages cut, but the later phases then
-/// ran slower there under load: opt-in until that is understood
-/// (docs/at-speed.md). Only the advice changes, never the results.
-void AdviseHugePages(const void* p, std::size_t bytes);
-/// v = n copies of value, the new storage advised as above first.
-template <class T>
-void AssignHuge(std::vector<T>& v, std::size_t n, const T& value)
-{
-  if (v.capacity() < n)
-  {
-    std::vector<T>().swap(v);
-    v.reserve(n);
-    AdviseHugePages(v.data(), n * sizeof(T));
-  }
-  v.assign(n, value);
-}
-
 /// Combinatorics of a polygonal complex: faces, unique edges and their
 /// incidences, plus the fixed sparsity patterns of both AT systems.
 class ATComplex

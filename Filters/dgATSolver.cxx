@@ -104,33 +104,8 @@ ATSolver::ATSolver(ATComplex& complex, const ATParameters& parameters, TakePatte
 
 ATSolver::~ATSolver() = default;
 
-namespace
-{
-// Fresh storage is advised to huge pages before it is first written
-// (AdviseHugePages, dgATOperators.h); storage of the right size is reused.
-void ResizeHuge(Eigen::MatrixXd& m, Eigen::Index rows, Eigen::Index cols)
-{
-  if (m.rows() != rows || m.cols() != cols)
-  {
-    m.resize(rows, cols);
-    AdviseHugePages(m.data(), static_cast<std::size_t>(m.size()) * sizeof(double));
-  }
-}
-void ResizeHuge(std::vector<double>& v, std::size_t n)
-{
-  if (v.capacity() < n)
-  {
-    std::vector<double>().swap(v);
-    v.reserve(n);
-    AdviseHugePages(v.data(), n * sizeof(double));
-  }
-  v.resize(n);
-}
-} // namespace
-
 void ATSolver::Initialize(const Eigen::MatrixXd& field)
 {
-  ResizeHuge(this->u, field.rows(), field.cols());
   this->u = field;
   this->InitializeFromU();
 }
@@ -146,7 +121,6 @@ void ATSolver::Initialize(Eigen::MatrixXd&& field)
 // bitwise what they were from g, and Energy recovers g from them.
 void ATSolver::InitializeFromU()
 {
-  ResizeHuge(this->URhs, this->u.rows(), this->u.cols());
   this->URhs = this->Params.Alpha * this->u;
   if (this->Metric)
   {
@@ -157,7 +131,6 @@ void ATSolver::InitializeFromU()
   if (this->v.size() != nv)
   {
     this->v.resize(nv);
-    AdviseHugePages(this->v.data(), static_cast<std::size_t>(nv) * sizeof(double));
   }
   this->v.setOnes();
   this->VRhs.resize(0, 0);
@@ -170,7 +143,7 @@ void ATSolver::AssembleU()
   const std::int64_t ne = K.NumberOfEdges(), nf = K.NumberOfFaces();
   // w(e) = ((M v)_e)^2, the weight of edge e in B^T diag(Mv)^2 B.
   std::vector<double>& w = this->EdgeWork;
-  ResizeHuge(w, static_cast<std::size_t>(ne));
+  w.resize(static_cast<std::size_t>(ne));
   const double* ratio = this->Metric ? this->Metric->EdgeRatio.data() : nullptr;
   const double* faceArea = this->Metric ? this->Metric->FaceArea.data() : nullptr;
   ForBlocks(ne,
@@ -252,7 +225,7 @@ void ATSolver::AssembleV(double epsilon)
   const int nc = static_cast<int>(this->u.cols());
   // q(e) = sum_i ((B u_i)_e)^2: the squared jump of u across edge e.
   std::vector<double>& q = this->EdgeWork;
-  ResizeHuge(q, static_cast<std::size_t>(ne));
+  q.resize(static_cast<std::size_t>(ne));
   const double* ratio = this->Metric ? this->Metric->EdgeRatio.data() : nullptr;
   const double* vertexArea = this->Metric ? this->Metric->VertexArea.data() : nullptr;
   ForBlocks(ne,
@@ -395,7 +368,7 @@ bool ATSolver::StepV(double epsilon)
   const double rhs = this->Params.Lambda / (4 * epsilon);
   if (this->VRhs.rows() != this->v.size() || this->VRhs.size() == 0 || this->VRhsEpsilon != epsilon)
   {
-    ResizeHuge(this->VRhs, this->v.size(), 1);
+    this->VRhs.resize(this->v.size(), 1);
     this->VRhs.setConstant(rhs);
     if (this->Metric)
     {
@@ -404,7 +377,7 @@ bool ATSolver::StepV(double epsilon)
     }
     this->VRhsEpsilon = epsilon;
   }
-  ResizeHuge(this->VX, this->v.size(), 1);
+  this->VX.resize(this->v.size(), 1);
   this->VX.col(0) = this->v;
   const bool ok = this->SolveSystem(*this->VSystem, this->VM, this->VRhs, this->VX, "v-step");
   // The stopping rule's max |v - v_prev| over the owned rows, taken here

@@ -292,7 +292,6 @@ int vtkAmbrosioTortorelliFilter::RequestData(vtkInformation*,
   const char* fieldName = field->GetName() ? field->GetName() : "(unnamed)";
 
   Eigen::MatrixXd g(nFaces, nc);
-  dg::AdviseHugePages(g.data(), static_cast<std::size_t>(g.size()) * sizeof(double));
   std::atomic<vtkIdType> badValue(-1), zeroVector(-1), notUnit(-1);
   {
     const auto tuples = vtk::DataArrayTupleRange(field);
@@ -496,11 +495,9 @@ int vtkAmbrosioTortorelliFilter::Internals::Solve(vtkAmbrosioTortorelliFilter* s
   }
 
   // Plain buffers for the core.
-  // Advised to huge pages before the first write (dg::AdviseHugePages).
   std::vector<std::int64_t> offsets, connectivity;
-  dg::AssignHuge(offsets, static_cast<std::size_t>(nFaces + 1), std::int64_t(0));
-  dg::AssignHuge(
-    connectivity, static_cast<std::size_t>(polys->GetNumberOfConnectivityIds()), std::int64_t(0));
+  offsets.assign(static_cast<std::size_t>(nFaces + 1), 0);
+  connectivity.assign(static_cast<std::size_t>(polys->GetNumberOfConnectivityIds()), 0);
   {
     const auto off = vtk::DataArrayValueRange<1>(polys->GetOffsetsArray());
     const auto conn = vtk::DataArrayValueRange<1>(polys->GetConnectivityArray());

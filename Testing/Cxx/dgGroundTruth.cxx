@@ -424,11 +424,17 @@ std::unique_ptr<ImplicitShape> MakeRotatedCube(
 
 std::unique_ptr<ImplicitShape> MakeCubeSphere(const Eigen::Vector3d& center, double h, double r)
 {
+  return MakeCubeSphere(center, { h, h, h, h, h, h }, r);
+}
+
+std::unique_ptr<ImplicitShape> MakeCubeSphere(
+  const Eigen::Vector3d& center, const std::array<double, 6>& h, double r)
+{
   std::vector<Plane> planes;
   for (int a = 0; a < 3; ++a)
   {
-    planes.push_back({ V3::Unit(a), h });
-    planes.push_back({ -V3::Unit(a), h });
+    planes.push_back({ V3::Unit(a), h[2 * a] });
+    planes.push_back({ -V3::Unit(a), h[2 * a + 1] });
   }
   return std::make_unique<ConvexShape>("cube-sphere", center, planes, r);
 }

@@ -14,6 +14,7 @@
 #include <vtkImageData.h>
 #include <vtkSmartPointer.h>
 
+#include <array>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -81,6 +82,10 @@ std::unique_ptr<ImplicitShape> MakeRotatedCube(
 /// radius r, h < r < h*sqrt(2): six flat discs joined by spherical parts; the
 /// sharp edges are the six circles where the sphere meets the faces.
 std::unique_ptr<ImplicitShape> MakeCubeSphere(const Eigen::Vector3d& center, double h, double r);
+/// The same with each face at its own distance from the centre, in the
+/// order +x, -x, +y, -y, +z, -z.
+std::unique_ptr<ImplicitShape> MakeCubeSphere(
+  const Eigen::Vector3d& center, const std::array<double, 6>& h, double r);
 /// A cylinder along z with flat caps: radius r, half height hz.
 std::unique_ptr<ImplicitShape> MakeCylinder(const Eigen::Vector3d& center, double r, double hz);
 /// |x| + |y| + |z| <= a (dihedral angle 109.47 degrees).
