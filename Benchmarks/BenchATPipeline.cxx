@@ -10,11 +10,12 @@
 // keeps the synthetic stand-in input and the solver comparison.
 //
 // Usage: BenchATPipeline [runs] [volumes...] [--dgtal] [--check] [--exact]
-//                        [--tolerance T] [--vfactor F] [--double] [--dv]
+//                        [--tolerance T] [--vfactor F] [--early F] [--double] [--dv]
 //                        [--dump PREFIX] [--no-triad]
 //   --exact compares the first run with SimplicialLDLT on the same schedule
 //   (the accuracy budget); --tolerance sets the CG tolerance (default: the
-//   ATParameters default), --vfactor the v-system's multiple of it; --double keeps CG's r, p, q, z in double
+//   ATParameters default), --vfactor the v-system's multiple of it, --early
+//   the multiple on every level but the last (CGToleranceEarlyFactor); --double keeps CG's r, p, q, z in double
 //   (ATParameters::CGSinglePrecision off); --dv prints, for the first run,
 //   every step's CG iterations and max |v - v_prev| (the stopping rule's test).
 //   A volume is a name in the shared volgallery (fandisk-128) or a path,
@@ -330,7 +331,7 @@ int main(int argc, char* argv[])
   int runs = 3;
   bool dgtal = false, check = false, exact = false, doublePrecision = false, printDv = false;
   bool triadWanted = true;
-  double cgTolerance = 0, vFactor = 0;
+  double cgTolerance = 0, vFactor = 0, earlyFactor = 0;
   std::string dumpPrefix;
   std::vector<std::string> volumes;
   for (int i = 1; i < argc; ++i)
@@ -354,6 +355,8 @@ int main(int argc, char* argv[])
       dumpPrefix = argv[++i];
     else if (a == "--vfactor" && i + 1 < argc)
       vFactor = std::atof(argv[++i]);
+    else if (a == "--early" && i + 1 < argc)
+      earlyFactor = std::atof(argv[++i]);
     else if (i == 1 && !a.empty() && std::isdigit(static_cast<unsigned char>(a[0])))
       runs = std::max(1, std::atoi(a.c_str()));
     else
@@ -378,6 +381,10 @@ int main(int argc, char* argv[])
     params.CGTolerance = cgTolerance;
   }
   params.CGSinglePrecision = !doublePrecision;
+  if (earlyFactor > 0)
+  {
+    params.CGToleranceEarlyFactor = earlyFactor;
+  }
   if (vFactor > 0)
   {
     params.CGToleranceVFactor = vFactor;
@@ -391,11 +398,11 @@ int main(int argc, char* argv[])
   const char* env = std::getenv("VTK_SMP_BACKEND_IN_USE");
   std::printf("BenchATPipeline: %d runs each (medians), %s parameters: alpha %g, lambda %g, "
               "eps %g -> %g by %g, <= %d iterations per level, tolerance %g, solver %s, "
-              "CG tolerance %g (v: x %g), %s precision\n",
+              "CG tolerance %g (v: x %g; levels before the last: x %g), %s precision\n",
     runs, dgtal ? "DGtal's" : "the paper's", params.Alpha, params.Lambda, params.EpsilonStart,
     params.EpsilonEnd, params.EpsilonRatio, params.MaximumIterations, params.Tolerance,
     dg::ATLinearSolverName(params.Solver), params.CGTolerance, params.CGToleranceVFactor,
-    params.CGSinglePrecision ? "single" : "double");
+    params.CGToleranceEarlyFactor, params.CGSinglePrecision ? "single" : "double");
   std::printf("machine: %s, nproc %ld, CPU %s\n", host, sysconf(_SC_NPROCESSORS_ONLN),
     CpuModel().c_str());
   std::printf("VTK_SMP_BACKEND_IN_USE=%s, vtkSMPTools backend %s, %d threads\n",

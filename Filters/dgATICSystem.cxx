@@ -63,6 +63,7 @@ public:
     , Kind(kind)
   {
   }
+  void SetTolerance(double tolerance) override { this->Tolerance = tolerance; }
 
   // The rows this process solves: all of them, or its owned ones (numbered
   // first; the rest are ghosts, read by the products but never updated).

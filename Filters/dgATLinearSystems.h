@@ -24,6 +24,8 @@ public:
   virtual bool Solve(const ATSystemMatrix& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& x) = 0;
   /// The bytes this solver holds (factor, work vectors), by name.
   virtual void Memory(ATMemoryParts&, const std::string&) const {}
+  /// Iterative solvers: the relative residual to stop at (direct ones ignore it).
+  virtual void SetTolerance(double) {}
   bool Analyzed = false;
   std::int64_t Iterations = 0;
 };

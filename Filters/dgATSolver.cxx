@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace dg
@@ -77,6 +78,11 @@ std::string ATParameters::Check() const
   if (!(this->CGToleranceVFactor > 0) || !std::isfinite(this->CGToleranceVFactor))
   {
     s << "CGToleranceVFactor must be finite and > 0 (got " << this->CGToleranceVFactor << "). ";
+  }
+  if (!(this->CGToleranceEarlyFactor >= 1) || !std::isfinite(this->CGToleranceEarlyFactor))
+  {
+    s << "CGToleranceEarlyFactor must be finite and >= 1 (got " << this->CGToleranceEarlyFactor
+      << "). ";
   }
   std::string r = s.str();
   if (!r.empty())
@@ -342,6 +348,7 @@ bool ATSolver::StepU()
           this->Distribution, 0, this->Params.CGSinglePrecision)
       : MakeATLinearSystem(this->Params);
   }
+  this->USystem->SetTolerance(this->Params.CGTolerance * this->ToleranceFactor);
   auto t0 = Clock::now();
   this->AssembleU();
   this->Stats.Assembly += Seconds(t0);
@@ -362,6 +369,8 @@ bool ATSolver::StepV(double epsilon)
           this->Params.CGMaximumIterations, this->Distribution, 1, this->Params.CGSinglePrecision)
       : MakeATLinearSystem(vParams);
   }
+  this->VSystem->SetTolerance(
+    this->Params.CGTolerance * this->Params.CGToleranceVFactor * this->ToleranceFactor);
   auto t0 = Clock::now();
   this->AssembleV(epsilon);
   this->Stats.Assembly += Seconds(t0);
@@ -590,12 +599,23 @@ bool ATSolver::Schedule(const ATProgressCallback& progress)
   for (std::size_t l = 0; l < levels.size(); ++l)
   {
     ++this->Stats.Levels;
+    // Looser solves on the levels before the last: sqrt(F) times looser per
+    // level away from the last, at most F (the level just before the last
+    // gets sqrt(F): one level of steps does not always solve away F, two
+    // do). Only while v still moves by far more than the stopping rule's
+    // tolerance: near it, a solve's error would decide whether the level
+    // stops, and so change the schedule.
+    const double early = std::min(this->Params.CGToleranceEarlyFactor,
+      std::pow(std::sqrt(this->Params.CGToleranceEarlyFactor),
+        static_cast<double>(levels.size() - 1 - l)));
+    double change = std::numeric_limits<double>::infinity();
     for (int it = 0; it < this->Params.MaximumIterations; ++it)
     {
+      this->ToleranceFactor = change > 10 * this->Params.Tolerance ? early : 1.0;
       this->StepU();
       this->StepV(levels[l]);
       ++this->Stats.Iterations;
-      double change = this->LastVChange;
+      change = this->LastVChange;
       if (this->Distribution)
       {
         change = this->Distribution->MaxAll(change);
