@@ -593,6 +593,48 @@ TEST(ATOperators, SolversAgreeAndRunIsDeterministic)
   EXPECT_LT((ldlt->U().rowwise().norm().array() - 1).abs().maxCoeff(), 1e-12);
 }
 
+TEST(ATOperators, LooserEarlyLevelsSaveIterationsWithinTheBudget)
+{
+  // CGToleranceEarlyFactor: 1 is the default run bit for bit; 6 loosens the
+  // levels before the last, takes fewer CG iterations, and stays within the
+  // accuracy budget of the exact solve with the same schedule (v within
+  // 1e-3, normals within 0.05 degrees).
+  auto cube = dgtest::MakeRotatedCube(Eigen::Vector3d(16.1, 15.9, 16.2), 10, 20, 30, 10);
+  auto pd = Surface(dgtest::Digitize(*cube, 33));
+  const dg::ATComplex c = Build(FromPolyData(pd));
+  const Eigen::MatrixXd g = TrivialNormalsPlusNoise(pd, 0.2, 9);
+  auto run = [&](dg::ATLinearSolver solver, double factor)
+  {
+    dg::ATParameters params;
+    params.Solver = solver;
+    params.CGToleranceEarlyFactor = factor;
+    auto s = std::make_unique<dg::ATSolver>(c, params);
+    EXPECT_TRUE(s->Run(g));
+    return s;
+  };
+  auto byDefault = std::make_unique<dg::ATSolver>(c, dg::ATParameters());
+  ASSERT_TRUE(byDefault->Run(g));
+  auto one = run(dg::ATLinearSolver::ConjugateGradientIC, 1.0);
+  auto six = run(dg::ATLinearSolver::ConjugateGradientIC, 6.0);
+  auto exact = run(dg::ATLinearSolver::SimplicialLDLT, 1.0);
+  EXPECT_EQ(MaxAbs(one->U() - byDefault->U()), 0.0);
+  EXPECT_EQ(MaxAbs(one->V() - byDefault->V()), 0.0);
+  EXPECT_EQ(one->Statistics().CGIterations, byDefault->Statistics().CGIterations);
+  EXPECT_LT(six->Statistics().CGIterations, one->Statistics().CGIterations);
+  EXPECT_EQ(six->Statistics().Iterations, exact->Statistics().Iterations);
+  EXPECT_LT(MaxAbs(six->V() - exact->V()), 1e-3);
+  double worst = 0;
+  for (Eigen::Index f = 0; f < six->U().rows(); ++f)
+  {
+    const double dot = six->U().row(f).normalized().dot(exact->U().row(f).normalized());
+    worst = std::max(worst, std::acos(std::min(1.0, dot)) * 180.0 / M_PI);
+  }
+  EXPECT_LT(worst, 0.05);
+  std::cout << "early factor 6: CG iterations " << six->Statistics().CGIterations << " against "
+            << one->Statistics().CGIterations << ", max |dv| " << MaxAbs(six->V() - exact->V())
+            << ", max angle " << worst << " deg" << std::endl;
+}
+
 TEST(ATOperators, TakingThePatternsGivesTheSameRunAndOnlyOnce)
 {
   // A solver that takes the complex's patterns (what the filter does, to
@@ -634,6 +676,7 @@ TEST(ATOperators, InvalidParametersAreReported)
   check([](dg::ATParameters& p) { p.EpsilonEnd = 0; }, "EpsilonEnd");
   check([](dg::ATParameters& p) { p.EpsilonRatio = 1; }, "EpsilonRatio");
   check([](dg::ATParameters& p) { p.MaximumIterations = 0; }, "MaximumIterations");
+  check([](dg::ATParameters& p) { p.CGToleranceEarlyFactor = 0.5; }, "CGToleranceEarlyFactor");
   EXPECT_TRUE(dg::ATParameters().Check().empty());
 }
 
