@@ -54,6 +54,7 @@ public:
     , MaxIterations(maxIterations)
   {
   }
+  void SetTolerance(double tolerance) override { this->Tolerance = tolerance; }
   bool Factorize(const ATSystemMatrix& m) override
   {
     const std::int64_t n = m.cols();
