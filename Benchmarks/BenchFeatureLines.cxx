@@ -61,21 +61,36 @@ std::vector<std::string> Split(const std::string& s)
   return out;
 }
 
+// Where the benchmark's shapes sit (off the grid's symmetry), and cube ∩
+// sphere's half side and radius.
+V3 ShapeCentre(int n)
+{
+  return V3::Constant(0.5 * (n - 1)) + V3(0.13, 0.07, 0.11);
+}
+double CubeSphereHalfSide(int n)
+{
+  return 0.3 * n;
+}
+double CubeSphereRadius(int n)
+{
+  return 0.38 * n;
+}
+
 std::unique_ptr<dgtest::ImplicitShape> MakeShape(const std::string& name, int n)
 {
-  const V3 c = V3::Constant(0.5 * (n - 1)) + V3(0.13, 0.07, 0.11);
+  const V3 c = ShapeCentre(n);
   if (name == "cube")
     return dgtest::MakeRotatedCube(c, 0.26 * n, 20, 30, 10);
   if (name == "cube2")
     return dgtest::MakeRotatedCube(c, 0.26 * n, 35, 10, 50);
   if (name == "cubesphere")
-    return dgtest::MakeCubeSphere(c, 0.3 * n, 0.38 * n);
+    return dgtest::MakeCubeSphere(c, CubeSphereHalfSide(n), CubeSphereRadius(n));
   if (name == "cubesphere-twin")
   {
     // cubesphere with each face moved to the other end of the interval of
     // positions that leave the same voxels inside (the voxel centres are the
     // integer points): the same volume, voxel for voxel, and other circles.
-    const double h = 0.3 * n;
+    const double h = CubeSphereHalfSide(n);
     std::array<double, 6> d;
     for (int a = 0; a < 3; ++a)
     {
@@ -84,7 +99,7 @@ std::unique_ptr<dgtest::ImplicitShape> MakeShape(const std::string& name, int n)
       d[2 * a] = (fh < 0.5 ? std::floor(hi) + 0.98 : std::floor(hi) + 0.02) - c[a];
       d[2 * a + 1] = c[a] - (fl < 0.5 ? std::ceil(lo) - 0.98 : std::ceil(lo) - 0.02);
     }
-    return dgtest::MakeCubeSphere(c, d, 0.38 * n);
+    return dgtest::MakeCubeSphere(c, d, CubeSphereRadius(n));
   }
   if (name == "octahedron")
     return dgtest::MakeOctahedron(c, 0.42 * n);
@@ -174,8 +189,8 @@ vtkSmartPointer<vtkPolyData> OracleLines(const dgtest::ImplicitShape& shape, vtk
 // without knowing where in its voxel the plane lies.
 vtkSmartPointer<vtkPolyData> LayerOracle(int n, vtkPolyData* surface, bool atLayer)
 {
-  const V3 c = V3::Constant(0.5 * (n - 1)) + V3(0.13, 0.07, 0.11);
-  const double h = 0.3 * n, R = 0.38 * n;
+  const V3 c = ShapeCentre(n);
+  const double h = CubeSphereHalfSide(n), R = CubeSphereRadius(n);
   double off[6];
   for (int a = 0; a < 3; ++a)
   {
@@ -350,15 +365,14 @@ int main(int argc, char* argv[])
         ds->Update();
         double angles = 0;
         long long inA = 0, inB = 0;
-        auto near = [](const dgtest::ImplicitShape& sh, const V3& x, double& value) {
-          value = sh.Value(x);
+        auto near = [](const dgtest::ImplicitShape& sh, const V3& x) {
+          const double value = sh.Value(x);
           return std::abs(value) <= 2.0 &&
             sh.DistanceToSharpEdge(x - value * sh.Normal(x), 4.0) <= 1.0;
         };
         for (const V3& x : dgtest::SurfelCenters(ds->GetOutput()))
         {
-          double va, vb;
-          const bool a1 = near(*original, x, va), b1 = near(*shape, x, vb);
+          const bool a1 = near(*original, x), b1 = near(*shape, x);
           inA += a1, inB += b1;
           if (a1 && b1)
           {
