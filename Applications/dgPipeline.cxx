@@ -17,6 +17,7 @@ void ConfigureAT(vtkAmbrosioTortorelliFilter* a, const PipelineSettings& s)
   a->SetFeatureThreshold(s.FeatureThreshold);
   a->SetLinearSolver(s.Solver);
   a->SetSolverTolerance(s.SolverTolerance);
+  a->SetSolverToleranceEarlyFactor(s.SolverToleranceEarlyFactor);
   a->SetMetric(s.Metric);
 }
 

@@ -60,6 +60,9 @@ struct PipelineSettings
   int Metric = vtkAmbrosioTortorelliFilter::METRIC_GRID;
   // CG's relative residual (the filter's default).
   double SolverTolerance = 1e-5;
+  // Multiple of it on the epsilon levels before the last (the filter's
+  // SolverToleranceEarlyFactor; 1 = every level at SolverTolerance).
+  double SolverToleranceEarlyFactor = 1.0;
   // One line per sharp edge and side normals (vtkSharpFeaturesFilter); off
   // gives the paper's own output (AT's lines and normals).
   bool Sharpen = true;

@@ -14,7 +14,8 @@
 // the stage runs, and the II and AT lines are not printed): parameter
 // studies of the stage alone.
 // DG_PROFILE=1 also prints the errors by distance to the edges and where the
-// lines lie; DG_DUMP=PREFIX writes PREFIX_surface.vtp, _lines.vtp, _atlines.vtp.
+// lines lie; DG_DUMP=PREFIX writes PREFIX_surface.vtp, _lines.vtp, _atlines.vtp
+// (and _oracle.vtp with DG_ORACLE: the lines between the truth's parts).
 #include "dgFeatureMetrics.h"
 #include "dgGroundTruth.h"
 #include "vtkAmbrosioTortorelliFilter.h"
@@ -499,8 +500,15 @@ int main(int argc, char* argv[])
             seeds[si], mII.MeanError, mII.Error1, mII.Error3);
           if (std::getenv("DG_ORACLE"))
           {
-            const auto mO = dgtest::MeasureFeatures(
-              *shape, surf->GetOutput(), "Normals", OracleLines(*shape, surf->GetOutput()));
+            auto oracleLines = OracleLines(*shape, surf->GetOutput());
+            const auto mO = dgtest::MeasureFeatures(*shape, surf->GetOutput(), "Normals", oracleLines);
+            if (const char* dump = std::getenv("DG_DUMP"))
+            {
+              vtkNew<vtkXMLPolyDataWriter> w;
+              w->SetInputData(oracleLines);
+              w->SetFileName((std::string(dump) + "_oracle.vtp").c_str());
+              w->Write();
+            }
             std::printf("%-10s %4d k %.1f s %d | oracle %s\n", name.c_str(), n, k, seeds[si],
               mO.Describe().c_str());
             if (name.rfind("cubesphere", 0) == 0)

@@ -97,6 +97,7 @@ struct vtkAmbrosioTortorelliFilter::Internals
            p.EpsilonEnd == q.EpsilonEnd && p.EpsilonRatio == q.EpsilonRatio &&
            p.MaximumIterations == q.MaximumIterations && p.Tolerance == q.Tolerance &&
            p.Solver == q.Solver && p.CGTolerance == q.CGTolerance &&
+           p.CGToleranceEarlyFactor == q.CGToleranceEarlyFactor &&
            p.CGMaximumIterations == q.CGMaximumIterations;
   }
 };
@@ -210,9 +211,19 @@ int vtkAmbrosioTortorelliFilter::RequestData(vtkInformation*,
   params.Tolerance = this->Tolerance;
   params.Solver = static_cast<dg::ATLinearSolver>(this->LinearSolver);
   params.CGTolerance = this->SolverTolerance;
+  // Checked here, so that the message names this filter's property.
+  const bool earlyValid =
+    this->SolverToleranceEarlyFactor >= 1 && std::isfinite(this->SolverToleranceEarlyFactor);
+  params.CGToleranceEarlyFactor = earlyValid ? this->SolverToleranceEarlyFactor : 1.0;
   // Normalisation is applied to the outputs, so the kept solve serves both.
   params.Normalize = false;
   std::string problem = params.Check();
+  if (!earlyValid)
+  {
+    problem += (problem.empty() ? "" : " ") +
+               std::string("SolverToleranceEarlyFactor must be finite and >= 1 (got ") +
+               std::to_string(this->SolverToleranceEarlyFactor) + ").";
+  }
   if (!(this->FeatureThreshold > 0 && this->FeatureThreshold < 1))
   {
     problem += (problem.empty() ? "" : " ") +
@@ -632,6 +643,7 @@ void vtkAmbrosioTortorelliFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NormalizeVectorField: " << (this->NormalizeVectorField ? "On" : "Off") << "\n";
   os << indent << "LinearSolver: " << solvers[this->LinearSolver] << "\n";
   os << indent << "SolverTolerance: " << this->SolverTolerance << "\n";
+  os << indent << "SolverToleranceEarlyFactor: " << this->SolverToleranceEarlyFactor << "\n";
   os << indent << "Metric: " << (this->Metric == METRIC_WORLD ? "World" : "Grid") << "\n";
   os << indent << "FieldScaling: " << (this->FieldScaling == FIELD_SCALING_RANGE ? "Range" : "None")
      << "\n";

@@ -96,12 +96,25 @@ TEST(ATReexecution, OnlySolveParametersAndInputSolveAgain)
   ii->SetRadius(4);
   at->Update();
   EXPECT_EQ(at->GetNumberOfSolves(), 3);
+  // The early levels' CG tolerance is a solve parameter too. The last level
+  // still solves to SolverTolerance: v stays within the accuracy budget
+  // (1e-3) of the run at 1, and it is not the same run.
+  vtkNew<vtkDoubleArray> v1;
+  v1->DeepCopy(at->GetOutput()->GetPointData()->GetArray("ATFeatureIndicator"));
+  at->SetSolverToleranceEarlyFactor(6);
+  at->Update();
+  EXPECT_EQ(at->GetNumberOfSolves(), 4);
+  vtkDataArray* v6 = at->GetOutput()->GetPointData()->GetArray("ATFeatureIndicator");
+  ASSERT_NE(v6, nullptr);
+  const double dv = MaxDifference(v1, v6);
+  EXPECT_LT(dv, 1e-3);
+  EXPECT_GT(dv, 0.0) << "the factor reached the solver";
   at->SetLinearSolver(vtkAmbrosioTortorelliFilter::SIMPLICIAL_LDLT);
   at->Update();
-  EXPECT_EQ(at->GetNumberOfSolves(), 4);
+  EXPECT_EQ(at->GetNumberOfSolves(), 5);
   at->SetFeatureThreshold(0.5);
   at->Update();
-  EXPECT_EQ(at->GetNumberOfSolves(), 4);
+  EXPECT_EQ(at->GetNumberOfSolves(), 5);
 }
 
 TEST(ATReexecution, OutputNamesFollowTheField)

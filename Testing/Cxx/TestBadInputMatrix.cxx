@@ -565,6 +565,13 @@ const Row Rows[] = {
     [] {
       return AT(CubeSurface(), [](vtkAmbrosioTortorelliFilter* a) { a->SetEpsilonRatio(0.5); });
     } },
+  { "ATEarlyToleranceFactorBelowOne",
+    Expect::Error,
+    "SolverToleranceEarlyFactor",
+    [] {
+      return AT(CubeSurface(),
+        [](vtkAmbrosioTortorelliFilter* a) { a->SetSolverToleranceEarlyFactor(0.5); });
+    } },
   { "ATZeroIterations",
     Expect::Error,
     "MaximumIterations",

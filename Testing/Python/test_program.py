@@ -207,6 +207,7 @@ bad_cases = [
     ("unknown option", ["--frobnicate"], 2),
     ("unknown solver", ["--solver", "gauss"], 2),
     ("unknown AT metric", ["--at-metric", "euclid"], 2),
+    ("early-level tolerance factor below 1", ["--solver-tolerance-early", "0.5"], 2),
     ("sheared MetaImage", [write("sheared.mha", ("ObjectType = Image\nNDims = 3\nDimSize = %d %d %d\n"
         "ElementSpacing = 1 1 1\nOffset = 0 0 0\nTransformMatrix = 1 0 0 0.3 1 0 0 0 1\n"
         "ElementType = MET_UCHAR\nElementDataFile = LOCAL\n" % (N, N, N)).encode() + voxels)], 1),
