@@ -23,7 +23,9 @@
 //    band face that meets no region keeps its normal and region -1.
 // 4. Regions meeting along a boundary whose mean normal jump (over the
 //    boundary's edges) is below MinimumFeatureAngle are merged: AT's false
-//    bands inside a smooth part give no line.
+//    bands inside a smooth part give no line. Weakest boundaries first, and
+//    no chain of merges joins two regions whose own boundary jumps by
+//    StrongFeatureAngle or more.
 // 5. Features: the edges between faces of two different (merged) regions.
 //    The line runs where the two sides' faces meet: one staircase line.
 //
@@ -55,6 +57,7 @@ struct SharpFeatureParameters
   int MinimumSupport = 3;        // region faces needed for a local plane
   int NormalSmoothingDepth = 3;  // final mean over the face's own region (0 = none)
   double MinimumFeatureAngle = 15.0; // degrees; weaker boundaries are merged
+  double StrongFeatureAngle = 30.0;  // degrees; never merged, not even through other regions
   double ReferenceWeight = 0.2; // how fast a region's reference normal follows its faces
   double RegionEdgeAngle = 10.0; // degrees; a region does not grow across a larger jump
 };
@@ -70,6 +73,7 @@ struct SharpFeatureResult
   std::int64_t NumberOfUnassignedFaces = 0; // band faces that met no region
   int NumberOfDissolvedRegions = 0;         // regions smaller than the minimum
   int NumberOfMergedBoundaries = 0;         // region pairs merged in step 4
+  int NumberOfRefusedMerges = 0;            // weak boundaries left as lines: a strong one lies between
 };
 
 /// points: 3 per point; normals: 3 per face (need not be unit; zero vectors

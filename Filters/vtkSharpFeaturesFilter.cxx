@@ -97,6 +97,7 @@ int vtkSharpFeaturesFilter::RequestData(
   par.FitResidual = this->FitResidual;
   par.ReferenceWeight = this->ReferenceWeight;
   par.MinimumFeatureAngle = this->MinimumFeatureAngle;
+  par.StrongFeatureAngle = this->StrongFeatureAngle;
   par.RegionEdgeAngle = this->RegionEdgeAngle;
   std::string problem;
   if (!(par.FeatureThreshold > 0 && par.FeatureThreshold < 1))
@@ -111,6 +112,8 @@ int vtkSharpFeaturesFilter::RequestData(
     problem += " SmoothingPasses must be >= 0 and SmoothingDepth >= 1.";
   if (!(par.MinimumFeatureAngle >= 0 && par.MinimumFeatureAngle <= 180))
     problem += " MinimumFeatureAngle must be in [0, 180].";
+  if (!(par.StrongFeatureAngle >= 0 && par.StrongFeatureAngle <= 180))
+    problem += " StrongFeatureAngle must be in [0, 180].";
   if (!(par.FitResidual >= 0))
     problem += " FitResidual must be >= 0.";
   if (!(par.ReferenceWeight > 0 && par.ReferenceWeight <= 1))
@@ -294,6 +297,7 @@ void vtkSharpFeaturesFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FitResidual: " << this->FitResidual << "\n";
   os << indent << "ReferenceWeight: " << this->ReferenceWeight << "\n";
   os << indent << "MinimumFeatureAngle: " << this->MinimumFeatureAngle << "\n";
+  os << indent << "StrongFeatureAngle: " << this->StrongFeatureAngle << "\n";
   os << indent << "RegionEdgeAngle: " << this->RegionEdgeAngle << "\n";
   os << indent << "NumberOfBandFaces: " << this->NumberOfBandFaces << "\n";
   os << indent << "NumberOfUnassignedFaces: " << this->NumberOfUnassignedFaces << "\n";

@@ -165,6 +165,20 @@ public:
 
   ///@{
   /**
+   * Boundaries whose jump is at least this angle (degrees, in [0, 180],
+   * default 30; values below MinimumFeatureAngle count as it) are sure
+   * features: the weak boundaries merge weakest first, and a merge that
+   * would join the two sides of a sure feature through other regions is
+   * refused. Under heavy noise AT's bands cut slivers off smooth parts, and
+   * a sliver that meets both sides of an edge along weak boundaries would
+   * otherwise erase the edge. 180 leaves every weak boundary merged.
+   */
+  vtkSetMacro(StrongFeatureAngle, double);
+  vtkGetMacro(StrongFeatureAngle, double);
+  ///@}
+
+  ///@{
+  /**
    * A region does not grow across an edge whose two faces' normals differ
    * by more than this angle (degrees, > 0, default 10): where AT's band has a
    * gap, the normal still turns over a few faces, and the two sides stay
@@ -202,6 +216,7 @@ protected:
   double FitResidual = 0.3;
   double ReferenceWeight = 0.2;
   double MinimumFeatureAngle = 15.0;
+  double StrongFeatureAngle = 30.0;
   double RegionEdgeAngle = 10.0;
   vtkIdType NumberOfBandFaces = 0;
   vtkIdType NumberOfUnassignedFaces = 0;
