@@ -7,7 +7,7 @@
 //          voxel, with other true circles)
 //          [--noise 0,0.3] [--seeds 1,2] [--radius R] [--alpha A] [--lambda L]
 //          [--islands N (default 8, vtkDigitalIslandFilter; 0 = off)] [--depth D]
-//          [--min-region M] [--angle DEG] [--strong-angle DEG] [--edge-angle DEG] [--beta B]
+//          [--min-region M] [--angle DEG] [--strong-angle DEG] [--planar-angle DEG] [--edge-angle DEG] [--beta B]
 //          [--residual R] [--fit 0|1] [--passes P] [--vote-depth D]
 //          [--threshold T] [--second-pass 0|1] [--curved 0|1]
 // DG_ATCACHE=DIR keeps AT's output per case in DIR and reuses it (then only
@@ -265,7 +265,7 @@ int main(int argc, char* argv[])
   std::vector<std::string> shapes = { "cube", "cube2", "octahedron", "cubesphere" };
   std::vector<double> noise = { 0, 0.3 };
   std::vector<int> seeds = { 1 };
-  double radius = 4, alpha = 0.05, lambda = 0.005, angle = 15, strongAngle = 30;
+  double radius = 4, alpha = 0.05, lambda = 0.005, angle = 15, strongAngle = 30, planarAngle = 6;
   int depth = 5, minRegion = 30;
   double threshold = 0.5, edgeAngle = 10;
   int islands = 8, passes = 2, voteDepth = 2, fit = 1, curved = 1;
@@ -328,6 +328,8 @@ int main(int argc, char* argv[])
       angle = std::stod(v);
     else if (k == "--strong-angle")
       strongAngle = std::stod(v);
+    else if (k == "--planar-angle")
+      planarAngle = std::stod(v);
     else
     {
       std::fprintf(stderr, "unknown option %s\n", k.c_str());
@@ -417,6 +419,7 @@ int main(int argc, char* argv[])
             sharp->SetMinimumRegionSize(minRegion);
             sharp->SetMinimumFeatureAngle(angle);
             sharp->SetStrongFeatureAngle(strongAngle);
+            sharp->SetPlanarRegionAngle(planarAngle);
             sharp->SetFitPlanes(fit != 0);
             sharp->SetCurvedSides(curved != 0);
             sharp->SetFitResidual(residual);
@@ -463,6 +466,7 @@ int main(int argc, char* argv[])
           sharp->SetMinimumRegionSize(minRegion);
           sharp->SetMinimumFeatureAngle(angle);
           sharp->SetStrongFeatureAngle(strongAngle);
+          sharp->SetPlanarRegionAngle(planarAngle);
           sharp->SetFitPlanes(fit != 0);
           sharp->SetCurvedSides(curved != 0);
           sharp->SetFitResidual(residual);

@@ -19,7 +19,9 @@
 //    that puts its outside voxel outside (signed distances to the planes;
 //    only regions whose normal faces the same way as the face's own polygon
 //    take part; with CurvedSides, a side's plane bends by the curvature its
-//    normals show along the edge) and takes that side's fitted normal. A
+//    normals show along the edge; a region whose normal field turns by
+//    less than PlanarRegionAngle across it takes part with the plane
+//    fitted to all its faces) and takes that side's fitted normal. A
 //    band face that meets no region keeps its normal and region -1.
 // 4. Regions meeting along a boundary whose mean normal jump (over the
 //    boundary's edges) is below MinimumFeatureAngle are merged: AT's false
@@ -60,6 +62,7 @@ struct SharpFeatureParameters
   double StrongFeatureAngle = 30.0;  // degrees; never merged, not even through other regions
   double ReferenceWeight = 0.2; // how fast a region's reference normal follows its faces
   double RegionEdgeAngle = 10.0; // degrees; a region does not grow across a larger jump
+  double PlanarRegionAngle = 6.0; // degrees; regions whose normals turn less are planes (0: none)
 };
 
 struct SharpFeatureResult
@@ -73,6 +76,7 @@ struct SharpFeatureResult
   std::int64_t NumberOfUnassignedFaces = 0; // band faces that met no region
   int NumberOfDissolvedRegions = 0;         // regions smaller than the minimum
   int NumberOfMergedBoundaries = 0;         // region pairs merged in step 4
+  int NumberOfPlanarRegions = 0;            // regions whose whole plane decides their sides
   int NumberOfRefusedMerges = 0;            // weak boundaries left as lines: a strong one lies between
 };
 

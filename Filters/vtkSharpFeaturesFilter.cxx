@@ -75,6 +75,7 @@ int vtkSharpFeaturesFilter::RequestData(
   vtkPolyData* lines = vtkPolyData::GetData(outputVector, 1);
   this->NumberOfBandFaces = this->NumberOfUnassignedFaces = 0;
   this->NumberOfRegions = 0;
+  this->NumberOfPlanarRegions = 0;
   if (!input || !output || !lines)
   {
     vtkErrorMacro("Missing input or output.");
@@ -98,6 +99,7 @@ int vtkSharpFeaturesFilter::RequestData(
   par.ReferenceWeight = this->ReferenceWeight;
   par.MinimumFeatureAngle = this->MinimumFeatureAngle;
   par.StrongFeatureAngle = this->StrongFeatureAngle;
+  par.PlanarRegionAngle = this->PlanarRegionAngle;
   par.RegionEdgeAngle = this->RegionEdgeAngle;
   std::string problem;
   if (!(par.FeatureThreshold > 0 && par.FeatureThreshold < 1))
@@ -114,6 +116,8 @@ int vtkSharpFeaturesFilter::RequestData(
     problem += " MinimumFeatureAngle must be in [0, 180].";
   if (!(par.StrongFeatureAngle >= 0 && par.StrongFeatureAngle <= 180))
     problem += " StrongFeatureAngle must be in [0, 180].";
+  if (!(par.PlanarRegionAngle >= 0 && par.PlanarRegionAngle <= 90))
+    problem += " PlanarRegionAngle must be in [0, 90].";
   if (!(par.FitResidual >= 0))
     problem += " FitResidual must be >= 0.";
   if (!(par.ReferenceWeight > 0 && par.ReferenceWeight <= 1))
@@ -234,6 +238,7 @@ int vtkSharpFeaturesFilter::RequestData(
   this->NumberOfBandFaces = res.NumberOfBandFaces;
   this->NumberOfUnassignedFaces = res.NumberOfUnassignedFaces;
   this->NumberOfRegions = res.NumberOfRegions;
+  this->NumberOfPlanarRegions = res.NumberOfPlanarRegions;
 
   output->ShallowCopy(input);
   vtkNew<vtkDoubleArray> sharp;
@@ -298,6 +303,8 @@ void vtkSharpFeaturesFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ReferenceWeight: " << this->ReferenceWeight << "\n";
   os << indent << "MinimumFeatureAngle: " << this->MinimumFeatureAngle << "\n";
   os << indent << "StrongFeatureAngle: " << this->StrongFeatureAngle << "\n";
+  os << indent << "PlanarRegionAngle: " << this->PlanarRegionAngle << "\n";
+  os << indent << "NumberOfPlanarRegions: " << this->NumberOfPlanarRegions << "\n";
   os << indent << "RegionEdgeAngle: " << this->RegionEdgeAngle << "\n";
   os << indent << "NumberOfBandFaces: " << this->NumberOfBandFaces << "\n";
   os << indent << "NumberOfUnassignedFaces: " << this->NumberOfUnassignedFaces << "\n";

@@ -179,6 +179,23 @@ public:
 
   ///@{
   /**
+   * A smooth region whose normal field turns by less than this angle across
+   * it (degrees, in [0, 90], default 6; 0: never) is a plane: its band
+   * faces choose their side against the plane fitted to all the region's
+   * faces, not to the few near them, which a staircase or noise tilts.
+   * AT's normals lean towards the other side next to the band, so true
+   * planes measure a few degrees; curved parts that small are flat enough
+   * for the choice of side.
+   */
+  vtkSetMacro(PlanarRegionAngle, double);
+  vtkGetMacro(PlanarRegionAngle, double);
+  ///@}
+
+  /// Regions found planar (PlanarRegionAngle) in the last execution.
+  vtkGetMacro(NumberOfPlanarRegions, int);
+
+  ///@{
+  /**
    * A region does not grow across an edge whose two faces' normals differ
    * by more than this angle (degrees, > 0, default 10): where AT's band has a
    * gap, the normal still turns over a few faces, and the two sides stay
@@ -217,6 +234,8 @@ protected:
   double ReferenceWeight = 0.2;
   double MinimumFeatureAngle = 15.0;
   double StrongFeatureAngle = 30.0;
+  double PlanarRegionAngle = 6.0;
+  int NumberOfPlanarRegions = 0;
   double RegionEdgeAngle = 10.0;
   vtkIdType NumberOfBandFaces = 0;
   vtkIdType NumberOfUnassignedFaces = 0;

@@ -240,6 +240,7 @@ TEST(SharpFeaturesFilter, OutputsAndBadInput)
     EXPECT_EQ(bad->GetOutput(0)->GetNumberOfCells(), 0) << what;
     EXPECT_EQ(bad->GetOutput(1)->GetNumberOfCells(), 0) << what;
   };
+  expectFailure(pd, "PlanarRegionAngle", [](vtkSharpFeaturesFilter* b) { b->SetPlanarRegionAngle(-1); });
   auto none = [](vtkSharpFeaturesFilter*) {};
   vtkNew<vtkPolyData> empty;
   expectFailure(empty, "no polygons", none);
@@ -275,6 +276,7 @@ std::unique_ptr<dgtest::ImplicitShape> Shape(const std::string& name, int n)
 struct PipelineRun
 {
   dgtest::FeatureMetrics Sharp, Plain;
+  int PlanarRegions = 0;
 };
 
 PipelineRun RunProgramDefaults(const dgtest::ImplicitShape& shape, int n, double k, int seed)
@@ -286,6 +288,7 @@ PipelineRun RunProgramDefaults(const dgtest::ImplicitShape& shape, int n, double
   PipelineRun r;
   r.Sharp = dgtest::MeasureFeatures(shape, p.Result(), p.NormalsName(), p.Features());
   r.Plain = dgtest::MeasureFeatures(shape, p.AT->GetOutput(0), "ATNormals", p.AT->GetOutput(1));
+  r.PlanarRegions = p.Sharp->GetNumberOfPlanarRegions();
   return r;
 }
 
@@ -311,11 +314,13 @@ TEST_P(ProgramDefaults, FeaturesAndNormalsOnGroundTruth)
     clean.Sharp.Describe().c_str(), name.c_str(), n, clean.Plain.Describe().c_str());
   const auto& c = clean.Sharp;
   EXPECT_LE(c.Multiplicity, 2.0);
-  EXPECT_LE(c.Offset, cs ? 0.75 : 0.5);    // cube-sphere measured 0.64-0.69
+  EXPECT_LE(c.Offset, cs ? 0.70 : 0.5);    // cube-sphere measured 0.45-0.64
   EXPECT_GE(c.Precision, 0.97);
   EXPECT_GE(c.Recall, 0.97);
-  EXPECT_LE(c.Error1, cs ? 15.0 : 8.0);    // cube-sphere measured 12.8-13.7
-  EXPECT_LE(c.MeanError, cs ? 4.0 : 3.0);  // cube-sphere measured 1.8-3.5
+  EXPECT_LE(c.Error1, cs ? 14.0 : 8.0);    // cube-sphere measured 9.0-12.7
+  EXPECT_LE(c.MeanError, 3.0);
+  // The flat faces are found flat (PlanarRegionAngle), the sphere is not.
+  EXPECT_EQ(clean.PlanarRegions, name == "octahedron" ? 8 : 6);
   // What the stage is for: fewer, better placed lines than AT's ladders.
   EXPECT_LT(c.Multiplicity, clean.Plain.Multiplicity);
   if (!cs)
@@ -330,8 +335,8 @@ TEST_P(ProgramDefaults, FeaturesAndNormalsOnGroundTruth)
       noisy.Sharp.Describe().c_str(), name.c_str(), n, seed, noisy.Plain.Describe().c_str());
     const auto& m = noisy.Sharp;
     EXPECT_LE(m.Multiplicity, 2.5) << seed;
-    EXPECT_GE(m.Precision, cs ? 0.68 : 0.85) << seed; // cube-sphere measured 0.71-0.79
-    EXPECT_GE(m.Recall, cs ? 0.87 : 0.95) << seed;    // cube-sphere measured 0.90-0.94
+    EXPECT_GE(m.Precision, cs ? 0.77 : 0.85) << seed; // cube-sphere measured 0.80-0.86
+    EXPECT_GE(m.Recall, 0.95) << seed;
     EXPECT_LE(m.MeanError, 6.0) << seed;
     EXPECT_LE(m.Error3, 12.0) << seed;
     EXPECT_GT(m.Precision, noisy.Plain.Precision - 0.02) << seed;
