@@ -15,10 +15,12 @@
  *   with fewer than MinimumRegionSize faces, such as the inside of AT's
  *   loops around noise bumps, join the band);
  * - every band face joins the nearby region whose local plane (centroid and
- *   mean normal of the region's faces found within SearchDepth face steps)
- *   its centre is closest to, and takes that plane's normal;
+ *   mean normal of the region's faces found within SearchDepth face steps;
+ *   for a region flat within PlanarRegionAngle, the plane through all its
+ *   faces) puts its outside voxel outside, and takes that side's normal;
  * - regions whose common boundary has a mean normal jump below
- *   MinimumFeatureAngle (degrees) are merged;
+ *   MinimumFeatureAngle (degrees) are merged, weakest first, never joining
+ *   the two sides of a boundary of StrongFeatureAngle or more;
  * - the feature lines are the edges between faces of different regions.
  *
  * Input: a vtkPolyData with polygons, a cell normal field (array 0 of
