@@ -338,6 +338,22 @@ int main(int argc, char* argv[])
   }
   if (!std::getenv("VTK_SMP_BACKEND_IN_USE"))
     vtkSMPTools::SetBackend("STDThread");
+  // The stage's parameters, the same on cached and fresh AT output.
+  auto configure = [&](vtkSharpFeaturesFilter* sharp) {
+    sharp->SetSearchDepth(depth);
+    sharp->SetSmoothingPasses(passes);
+    sharp->SetSmoothingDepth(voteDepth);
+    sharp->SetRegionEdgeAngle(edgeAngle);
+    sharp->SetFeatureThreshold(threshold);
+    sharp->SetMinimumRegionSize(minRegion);
+    sharp->SetMinimumFeatureAngle(angle);
+    sharp->SetStrongFeatureAngle(strongAngle);
+    sharp->SetPlanarRegionAngle(planarAngle);
+    sharp->SetFitPlanes(fit != 0);
+    sharp->SetCurvedSides(curved != 0);
+    sharp->SetFitResidual(residual);
+    sharp->SetReferenceWeight(beta);
+  };
   for (int n : sizes)
     for (const auto& name : shapes)
     {
@@ -411,19 +427,7 @@ int main(int argc, char* argv[])
             rd->Update();
             vtkNew<vtkSharpFeaturesFilter> sharp;
             sharp->SetInputData(rd->GetOutput());
-            sharp->SetSearchDepth(depth);
-            sharp->SetSmoothingPasses(passes);
-            sharp->SetSmoothingDepth(voteDepth);
-            sharp->SetRegionEdgeAngle(edgeAngle);
-            sharp->SetFeatureThreshold(threshold);
-            sharp->SetMinimumRegionSize(minRegion);
-            sharp->SetMinimumFeatureAngle(angle);
-            sharp->SetStrongFeatureAngle(strongAngle);
-            sharp->SetPlanarRegionAngle(planarAngle);
-            sharp->SetFitPlanes(fit != 0);
-            sharp->SetCurvedSides(curved != 0);
-            sharp->SetFitResidual(residual);
-            sharp->SetReferenceWeight(beta);
+            configure(sharp);
             sharp->Update();
             const auto mS = dgtest::MeasureFeatures(
               *shape, sharp->GetOutput(0), "SharpNormals", sharp->GetOutput(1));
@@ -458,19 +462,7 @@ int main(int argc, char* argv[])
           at->SetLambda(lambda);
           vtkNew<vtkSharpFeaturesFilter> sharp;
           sharp->SetInputConnection(at->GetOutputPort());
-          sharp->SetSearchDepth(depth);
-          sharp->SetSmoothingPasses(passes);
-          sharp->SetSmoothingDepth(voteDepth);
-          sharp->SetRegionEdgeAngle(edgeAngle);
-          sharp->SetFeatureThreshold(threshold);
-          sharp->SetMinimumRegionSize(minRegion);
-          sharp->SetMinimumFeatureAngle(angle);
-          sharp->SetStrongFeatureAngle(strongAngle);
-          sharp->SetPlanarRegionAngle(planarAngle);
-          sharp->SetFitPlanes(fit != 0);
-          sharp->SetCurvedSides(curved != 0);
-          sharp->SetFitResidual(residual);
-          sharp->SetReferenceWeight(beta);
+          configure(sharp);
           sharp->Update();
           if (!cached.empty())
           {

@@ -200,6 +200,31 @@ struct RegionSample
   // shrunk to nothing when k is not significant against the fit's residual
   // (James-Stein-like factor 1 - z^2 se^2 / fall^2, z = 3): noise alone
   // must not bend a plane.
+  // The linear fit u(x) = mean + S (x - c) of the normals to the positions
+  // (cov: the positions' covariance): S, and the normals' cross-covariance
+  // with the positions, cux. A small ridge: the samples barely spread along
+  // the normal.
+  Eigen::Matrix3d NormalSlope(const Eigen::Matrix3d& cov, Eigen::Matrix3d& cux) const
+  {
+    const double n = this->Count;
+    const Eigen::Vector3d c(
+      this->CentroidSum.x / n, this->CentroidSum.y / n, this->CentroidSum.z / n);
+    const Eigen::Vector3d ubar(
+      this->NormalSum.x / n, this->NormalSum.y / n, this->NormalSum.z / n);
+    cux = this->NormalMoment / n - ubar * c.transpose();
+    const Eigen::Matrix3d reg = cov + 1e-3 * cov.trace() * Eigen::Matrix3d::Identity();
+    return cux * reg.inverse();
+  }
+
+  // S restricted to the plane of unit normal m and symmetrised, as a shape
+  // operator is.
+  static Eigen::Matrix3d InPlane(const Eigen::Matrix3d& S, const Eigen::Vector3d& m)
+  {
+    const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - m * m.transpose();
+    const Eigen::Matrix3d St = P * S * P;
+    return 0.5 * (St + St.transpose());
+  }
+
   double Fall(const Vec3& m, const Vec3& p) const
   {
     if (this->Count < 6)
@@ -210,10 +235,8 @@ struct RegionSample
     const Eigen::Vector3d ubar(
       this->NormalSum.x / n, this->NormalSum.y / n, this->NormalSum.z / n);
     const Eigen::Matrix3d cov = this->Covariance();
-    const Eigen::Matrix3d cux = this->NormalMoment / n - ubar * c.transpose();
-    // A small ridge: the samples barely spread along the normal.
-    const Eigen::Matrix3d reg = cov + 1e-3 * cov.trace() * Eigen::Matrix3d::Identity();
-    const Eigen::Matrix3d S = cux * reg.inverse();
+    Eigen::Matrix3d cux;
+    const Eigen::Matrix3d S = this->NormalSlope(cov, cux);
     const Eigen::Vector3d mm(m.x, m.y, m.z);
     const Eigen::Vector3d d0 = Eigen::Vector3d(p.x, p.y, p.z) - c;
     const Eigen::Vector3d d = d0 - mm * mm.dot(d0);
@@ -228,8 +251,7 @@ struct RegionSample
     // residual variance per tangent component around the fit restricted to
     // the plane and symmetrised, as a shape operator is: what the raw fit
     // explains beyond it (the lean across the edge, a twist) is scatter.
-    Eigen::Matrix3d St = P * S * P;
-    St = 0.5 * (St + St.transpose());
+    const Eigen::Matrix3d St = InPlane(S, mm);
     const double cuu = this->NormalSquares / n - ubar.squaredNorm();
     const double rss = std::max(
       0.0, cuu - 2 * (St * cux.transpose()).trace() + (St * cov * St.transpose()).trace());
@@ -480,7 +502,6 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
         planar[r] = 0;
         if (w.Count < par.MinimumRegionSize)
           continue;
-        const double n = w.Count;
         const Eigen::Matrix3d cov = w.Covariance();
         Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
         const Eigen::Vector3d ev = eig.eigenvalues();
@@ -493,20 +514,15 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
           !(std::sqrt(ev(2)) >= par.SearchDepth * meanEdge2))
           continue;
         const Eigen::Vector3d m = eig.eigenvectors().col(0);
-        const Eigen::Vector3d c(w.CentroidSum.x / n, w.CentroidSum.y / n, w.CentroidSum.z / n);
-        const Eigen::Vector3d ubar(w.NormalSum.x / n, w.NormalSum.y / n, w.NormalSum.z / n);
-        const Eigen::Matrix3d cux = w.NormalMoment / n - ubar * c.transpose();
-        const Eigen::Matrix3d reg = cov + 1e-3 * cov.trace() * Eigen::Matrix3d::Identity();
-        const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - m * m.transpose();
-        Eigen::Matrix3d S = P * (cux * reg.inverse()) * P;
-        S = 0.5 * (S + S.transpose());
+        Eigen::Matrix3d cux;
+        const Eigen::Matrix3d S = RegionSample::InPlane(w.NormalSlope(cov, cux), m);
         const Eigen::Vector3d k = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(S).eigenvalues();
         const double turn = std::max(std::abs(k(0)), std::abs(k(2))) * 2.0 * std::sqrt(ev(2));
         if (!(turn * 180.0 / 3.14159265358979323846 < par.PlanarRegionAngle))
           continue;
         Vec3 nrm(m(0), m(1), m(2));
         planeNormal[r] = nrm.Dot(w.NormalSum) < 0 ? nrm * -1.0 : nrm;
-        planePoint[r] = origin[r] + w.CentroidSum * (1.0 / n);
+        planePoint[r] = origin[r] + w.CentroidSum * (1.0 / w.Count);
         planar[r] = 1;
       }
     });
