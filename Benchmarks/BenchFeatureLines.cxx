@@ -9,7 +9,7 @@
 //          [--islands N (default 8, vtkDigitalIslandFilter; 0 = off)] [--depth D]
 //          [--min-region M] [--angle DEG] [--strong-angle DEG] [--planar-angle DEG] [--edge-angle DEG] [--beta B]
 //          [--residual R] [--fit 0|1] [--passes P] [--vote-depth D]
-//          [--threshold T] [--second-pass 0|1] [--curved 0|1]
+//          [--threshold T] [--second-pass 0|1] [--curved 0|1] [--quadric 0|1]
 // DG_ATCACHE=DIR keeps AT's output per case in DIR and reuses it (then only
 // the stage runs, and the II and AT lines are not printed): parameter
 // studies of the stage alone.
@@ -268,7 +268,7 @@ int main(int argc, char* argv[])
   double radius = 4, alpha = 0.05, lambda = 0.005, angle = 15, strongAngle = 30, planarAngle = 6;
   int depth = 5, minRegion = 30;
   double threshold = 0.5, edgeAngle = 10;
-  int islands = 8, passes = 2, voteDepth = 2, fit = 1, curved = 1;
+  int islands = 8, passes = 2, voteDepth = 2, fit = 1, curved = 1, quadric = 1;
   double beta = 0.2, residual = 0.3;
   bool secondPass = false;
   for (int a = 1; a + 1 < argc; a += 2)
@@ -312,6 +312,8 @@ int main(int argc, char* argv[])
       fit = std::stoi(v);
     else if (k == "--curved")
       curved = std::stoi(v);
+    else if (k == "--quadric")
+      quadric = std::stoi(v);
     else if (k == "--second-pass")
       secondPass = std::stoi(v) != 0;
     else if (k == "--passes")
@@ -351,6 +353,7 @@ int main(int argc, char* argv[])
     sharp->SetPlanarRegionAngle(planarAngle);
     sharp->SetFitPlanes(fit != 0);
     sharp->SetCurvedSides(curved != 0);
+    sharp->SetQuadricSides(quadric != 0);
     sharp->SetFitResidual(residual);
     sharp->SetReferenceWeight(beta);
   };

@@ -1,5 +1,8 @@
 #include "dgSharpFeatures.h"
 
+#include "dgSharpFeaturesGraph.h"
+#include "dgSharpFeaturesRegionFits.h"
+
 #include <vtkSMPThreadLocal.h>
 #include <vtkSMPTools.h>
 
@@ -15,326 +18,16 @@
 
 namespace dg
 {
+using namespace sharp;
 namespace
 {
 
-struct Vec3
-{
-  double x = 0, y = 0, z = 0;
-  Vec3() = default;
-  Vec3(double a, double b, double c)
-    : x(a)
-    , y(b)
-    , z(c)
-  {
-  }
-  Vec3 operator+(const Vec3& o) const { return { x + o.x, y + o.y, z + o.z }; }
-  Vec3 operator-(const Vec3& o) const { return { x - o.x, y - o.y, z - o.z }; }
-  Vec3 operator*(double s) const { return { x * s, y * s, z * s }; }
-  Vec3& operator+=(const Vec3& o)
-  {
-    x += o.x;
-    y += o.y;
-    z += o.z;
-    return *this;
-  }
-  double Dot(const Vec3& o) const { return x * o.x + y * o.y + z * o.z; }
-  Vec3 Cross(const Vec3& o) const
-  {
-    return { y * o.z - z * o.y, z * o.x - x * o.z, x * o.y - y * o.x };
-  }
-  double Norm() const { return std::sqrt(this->Dot(*this)); }
-  Vec3 Unit() const
-  {
-    const double n = this->Norm();
-    return n > 0 ? *this * (1.0 / n) : Vec3();
-  }
-};
-
-double AngleDegrees(const Vec3& a, const Vec3& b)
-{
-  // atan2 of |a x b| and a.b: accurate for small angles, unlike acos.
-  return std::atan2(a.Cross(b).Norm(), a.Dot(b)) * 180.0 / M_PI;
-}
-
-// Faces around each edge (CSR) and edges of each face, from the polygons'
-// sides; an edge is an unordered point pair.
-struct FaceGraph
-{
-  std::vector<std::array<std::int64_t, 2>> Edges;
-  std::vector<std::int64_t> EdgeFacePtr;
-  std::vector<std::int64_t> EdgeFaces;
-  std::vector<std::int64_t> FaceEdgePtr;
-  std::vector<std::int64_t> FaceEdges;
-
-  void Build(const std::vector<std::int64_t>& offsets, const std::vector<std::int64_t>& conn)
-  {
-    const std::int64_t F = static_cast<std::int64_t>(offsets.size()) - 1;
-    struct Side
-    {
-      std::int64_t A, B, Face;
-    };
-    std::vector<Side> sides;
-    sides.reserve(conn.size());
-    for (std::int64_t f = 0; f < F; ++f)
-    {
-      const std::int64_t b = offsets[f], e = offsets[f + 1];
-      for (std::int64_t k = b; k < e; ++k)
-      {
-        const std::int64_t p = conn[k], q = conn[k + 1 < e ? k + 1 : b];
-        if (p != q)
-          sides.push_back({ std::min(p, q), std::max(p, q), f });
-      }
-    }
-    std::sort(sides.begin(), sides.end(), [](const Side& s, const Side& t) {
-      return s.A != t.A ? s.A < t.A : s.B != t.B ? s.B < t.B : s.Face < t.Face;
-    });
-    this->EdgeFacePtr.assign(1, 0);
-    std::vector<std::int64_t> faceEdgeCount(F + 1, 0);
-    std::vector<std::pair<std::int64_t, std::int64_t>> faceEdge; // (face, edge)
-    faceEdge.reserve(sides.size());
-    for (std::size_t i = 0; i < sides.size();)
-    {
-      std::size_t j = i;
-      const std::int64_t e = static_cast<std::int64_t>(this->Edges.size());
-      this->Edges.push_back({ sides[i].A, sides[i].B });
-      for (; j < sides.size() && sides[j].A == sides[i].A && sides[j].B == sides[i].B; ++j)
-      {
-        // A face that runs twice along the same edge counts once.
-        if (j == i || sides[j].Face != sides[j - 1].Face)
-        {
-          this->EdgeFaces.push_back(sides[j].Face);
-          faceEdge.emplace_back(sides[j].Face, e);
-          ++faceEdgeCount[sides[j].Face + 1];
-        }
-      }
-      this->EdgeFacePtr.push_back(static_cast<std::int64_t>(this->EdgeFaces.size()));
-      i = j;
-    }
-    std::partial_sum(faceEdgeCount.begin(), faceEdgeCount.end(), faceEdgeCount.begin());
-    this->FaceEdgePtr = faceEdgeCount;
-    this->FaceEdges.assign(faceEdge.size(), 0);
-    std::vector<std::int64_t> fill(faceEdgeCount.begin(), faceEdgeCount.end() - 1);
-    for (const auto& fe : faceEdge)
-      this->FaceEdges[fill[fe.first]++] = fe.second;
-  }
-};
-
-struct UnionFind
-{
-  std::vector<int> Parent;
-  explicit UnionFind(int n)
-    : Parent(n)
-  {
-    std::iota(this->Parent.begin(), this->Parent.end(), 0);
-  }
-  int Find(int a)
-  {
-    while (this->Parent[a] != a)
-      a = this->Parent[a] = this->Parent[this->Parent[a]];
-    return a;
-  }
-  bool Unite(int a, int b)
-  {
-    a = this->Find(a);
-    b = this->Find(b);
-    if (a == b)
-      return false;
-    this->Parent[std::max(a, b)] = std::min(a, b);
-    return true;
-  }
-};
-
-// What a band face's search found of one region.
-struct RegionSample
-{
-  int Region;
-  int Count = 0;
-  Vec3 CentroidSum, NormalSum;
-  double Moment[6] = { 0, 0, 0, 0, 0, 0 }; // sums of xx, xy, xz, yy, yz, zz
-  Eigen::Matrix3d NormalMoment = Eigen::Matrix3d::Zero(); // sum of u x^T
-  double NormalSquares = 0;                                // sum of |u|^2
-
-  void AddPosition(const Vec3& p)
-  {
-    this->CentroidSum += p;
-    this->Moment[0] += p.x * p.x;
-    this->Moment[1] += p.x * p.y;
-    this->Moment[2] += p.x * p.z;
-    this->Moment[3] += p.y * p.y;
-    this->Moment[4] += p.y * p.z;
-    this->Moment[5] += p.z * p.z;
-  }
-
-  void AddNormal(const Vec3& u, const Vec3& p)
-  {
-    this->NormalSum += u;
-    this->NormalMoment += Eigen::Vector3d(u.x, u.y, u.z) * Eigen::RowVector3d(p.x, p.y, p.z);
-    this->NormalSquares += u.Dot(u);
-  }
-
-  Eigen::Matrix3d Covariance() const
-  {
-    const double n = this->Count;
-    const Vec3 c = this->CentroidSum * (1.0 / n);
-    Eigen::Matrix3d cov;
-    cov(0, 0) = this->Moment[0] / n - c.x * c.x;
-    cov(0, 1) = cov(1, 0) = this->Moment[1] / n - c.x * c.y;
-    cov(0, 2) = cov(2, 0) = this->Moment[2] / n - c.x * c.z;
-    cov(1, 1) = this->Moment[3] / n - c.y * c.y;
-    cov(1, 2) = cov(2, 1) = this->Moment[4] / n - c.y * c.z;
-    cov(2, 2) = this->Moment[5] / n - c.z * c.z;
-    return cov;
-  }
-
-  // How far the side's surface falls below its plane (centroid c, unit
-  // normal m) at p, relative to its mean fall over the samples (the plane
-  // passes through their centroid): 1/2 k (|d|^2 - tr Cov_t), d = p - c in
-  // the plane, k the side's curvature along the edge, taken as isotropic.
-  // k is the slope along the edge of the normal field's linear fit
-  // u(x) = mean + S (x - c): the normals, because a digital plane's
-  // staircase bends the positions but not the regularised normals; along
-  // the edge, because the normals next to AT's band still lean towards the
-  // other side (a slope across the edge, which a flat side must not read as
-  // curvature), and that lean does not change along the edge. The fall is
-  // shrunk to nothing when k is not significant against the fit's residual
-  // (James-Stein-like factor 1 - z^2 se^2 / fall^2, z = 3): noise alone
-  // must not bend a plane.
-  // The linear fit u(x) = mean + S (x - c) of the normals to the positions
-  // (cov: the positions' covariance): S, and the normals' cross-covariance
-  // with the positions, cux. A small ridge: the samples barely spread along
-  // the normal.
-  Eigen::Matrix3d NormalSlope(const Eigen::Matrix3d& cov, Eigen::Matrix3d& cux) const
-  {
-    const double n = this->Count;
-    const Eigen::Vector3d c(
-      this->CentroidSum.x / n, this->CentroidSum.y / n, this->CentroidSum.z / n);
-    const Eigen::Vector3d ubar(
-      this->NormalSum.x / n, this->NormalSum.y / n, this->NormalSum.z / n);
-    cux = this->NormalMoment / n - ubar * c.transpose();
-    const Eigen::Matrix3d reg = cov + 1e-3 * cov.trace() * Eigen::Matrix3d::Identity();
-    return cux * reg.inverse();
-  }
-
-  // S restricted to the plane of unit normal m and symmetrised, as a shape
-  // operator is.
-  static Eigen::Matrix3d InPlane(const Eigen::Matrix3d& S, const Eigen::Vector3d& m)
-  {
-    const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - m * m.transpose();
-    const Eigen::Matrix3d St = P * S * P;
-    return 0.5 * (St + St.transpose());
-  }
-
-  double Fall(const Vec3& m, const Vec3& p) const
-  {
-    if (this->Count < 6)
-      return 0;
-    const double n = this->Count;
-    const Eigen::Vector3d c(
-      this->CentroidSum.x / n, this->CentroidSum.y / n, this->CentroidSum.z / n);
-    const Eigen::Vector3d ubar(
-      this->NormalSum.x / n, this->NormalSum.y / n, this->NormalSum.z / n);
-    const Eigen::Matrix3d cov = this->Covariance();
-    Eigen::Matrix3d cux;
-    const Eigen::Matrix3d S = this->NormalSlope(cov, cux);
-    const Eigen::Vector3d mm(m.x, m.y, m.z);
-    const Eigen::Vector3d d0 = Eigen::Vector3d(p.x, p.y, p.z) - c;
-    const Eigen::Vector3d d = d0 - mm * mm.dot(d0);
-    if (!S.allFinite() || !(d.norm() > 1e-9))
-      return 0;
-    const Eigen::Vector3d e = mm.cross(d).normalized();
-    const double k = e.dot(S * e);
-    const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - mm * mm.transpose();
-    const double spread = d.squaredNorm() - (P * cov * P).trace();
-    const double fall = 0.5 * k * spread;
-    // The slope's standard error: sigma / sqrt(n var_e(x)), sigma^2 the
-    // residual variance per tangent component around the fit restricted to
-    // the plane and symmetrised, as a shape operator is: what the raw fit
-    // explains beyond it (the lean across the edge, a twist) is scatter.
-    const Eigen::Matrix3d St = InPlane(S, mm);
-    const double cuu = this->NormalSquares / n - ubar.squaredNorm();
-    const double rss = std::max(
-      0.0, cuu - 2 * (St * cux.transpose()).trace() + (St * cov * St.transpose()).trace());
-    const double sigma2 = rss * n / std::max(1.0, 2.0 * (n - 4));
-    const double se =
-      0.5 * std::abs(spread) * std::sqrt(sigma2 / (n * std::max(e.dot(cov * e), 1e-12)));
-    constexpr double z = 3.0;
-    const double shrink = std::max(0.0, 1.0 - z * z * se * se / std::max(fall * fall, 1e-300));
-    return std::isfinite(fall * shrink) ? fall * shrink : 0.0;
-  }
-
-  // The normal of the least-squares plane through the positions (the
-  // covariance's smallest eigenvector), turned to the side of the mean field
-  // normal; the mean field normal itself when the positions do not span a
-  // plane.
-  Vec3 PlaneNormal(double maxResidual2) const
-  {
-    const Vec3 mean = this->NormalSum.Unit();
-    if (this->Count < 3)
-      return mean;
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(this->Covariance());
-    const Eigen::Vector3d ev = eig.eigenvalues();
-    // A line of faces (second eigenvalue ~ 0) does not fix a plane.
-    if (!(ev(1) > 1e-3 * std::max(ev(2), 1e-300)) || !(ev(0) <= maxResidual2))
-      return mean;
-    const Eigen::Vector3d e = eig.eigenvectors().col(0);
-    Vec3 nrm(e(0), e(1), e(2));
-    return nrm.Dot(mean) < 0 ? nrm * -1.0 : nrm;
-  }
-};
-
 // Per-thread scratch of the band faces' searches.
-struct SearchScratch
+struct SearchScratch : BreadthScratch
 {
-  std::vector<std::uint32_t> Stamp;
-  std::uint32_t Current = 0;
-  std::vector<std::pair<std::int64_t, int>> Queue;
   std::vector<RegionSample> Samples;
   std::vector<std::int64_t> Fit;
 };
-
-
-// Breadth-first search over the face graph from f0, through the faces that
-// pass(face) accepts, at most `limit` steps; visit(face, depth, limit) sees
-// every face reached in order of depth and returns the limit (it may lower
-// it). The scratch's stamps make each search O(faces reached).
-template<class Pass, class Visit>
-void Breadth(const FaceGraph& graph, SearchScratch& s, std::int64_t f0, int limit,
-  const Pass& pass, const Visit& visit)
-{
-  if (s.Stamp.empty())
-    s.Stamp.assign(graph.FaceEdgePtr.size() - 1, 0);
-  if (++s.Current == 0)
-  {
-    std::fill(s.Stamp.begin(), s.Stamp.end(), 0);
-    s.Current = 1;
-  }
-  s.Queue.assign(1, { f0, 0 });
-  s.Stamp[f0] = s.Current;
-  for (std::size_t head = 0; head < s.Queue.size(); ++head)
-  {
-    const std::int64_t f = s.Queue[head].first;
-    const int depth = s.Queue[head].second;
-    if (depth > limit)
-      break;
-    limit = visit(f, depth, limit);
-    if (depth >= limit)
-      continue;
-    for (std::int64_t k = graph.FaceEdgePtr[f]; k < graph.FaceEdgePtr[f + 1]; ++k)
-    {
-      const std::int64_t e = graph.FaceEdges[k];
-      for (std::int64_t j = graph.EdgeFacePtr[e]; j < graph.EdgeFacePtr[e + 1]; ++j)
-      {
-        const std::int64_t g = graph.EdgeFaces[j];
-        if (s.Stamp[g] != s.Current && pass(g))
-        {
-          s.Stamp[g] = s.Current;
-          s.Queue.emplace_back(g, depth + 1);
-        }
-      }
-    }
-  }
-}
 
 } // namespace
 
@@ -463,71 +156,39 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
   if (!report(0.3))
     return aborted();
 
-  // Planar regions: a region whose normal field turns by less than
-  // PlanarRegionAngle across it is a plane, and its side in step 3 is the
-  // least-squares plane through all its faces instead of the few found near
-  // the band face: on a noisy or staircased plane that is the plane the
-  // voxels show, not a local tilt of it (cube and sphere at k = 0.3: recall
-  // 0.90-0.94 -> 0.95-0.97). The turn is the slope of a linear fit of the
-  // normals to the positions, u(x) = mean + S (x - c), its largest
-  // in-plane curvature times the region's extent; AT's normals still lean
-  // towards the other side next to the band, so true planes measure 3-5
-  // degrees (cube and sphere's discs, 64^3, k = 0.3), their curved
-  // neighbours 9 and more.
-  std::vector<char> planar(regions, 0);
-  std::vector<Vec3> planeNormal(regions), planePoint(regions);
+  // Whole-region models for the choice of side (step 3): a plane for the
+  // regions whose normals turn by less than PlanarRegionAngle across them,
+  // a quadric for the other large ones (QuadricSides). Both only for
+  // regions that reach beyond a band face's own search: in a smaller one
+  // the local fit sees the whole region anyway, and a model of a few dozen
+  // noisy faces is less sure than their mean (measured: planes admitted
+  // below that cost cube and sphere 128^3 at k = 0.3 a whole circle, recall
+  // 0.97 -> 0.82; quadrics below 3 searches cost it at 64^3, recall
+  // 0.97 -> 0.95).
+  std::vector<RegionPlane> planes(regions);
   if (par.PlanarRegionAngle > 0)
+    planes = FindPlanarRegions(region, regions, centre, field, par.MinimumRegionSize,
+      par.SearchDepth * meanEdge2, par.PlanarRegionAngle);
+  std::vector<char> planar(regions, 0);
+  for (int r = 0; r < regions; ++r)
   {
-    std::vector<RegionSample> whole(regions);
-    std::vector<Vec3> origin(regions);
-    std::vector<char> started(regions, 0);
-    for (std::int64_t f = 0; f < F; ++f)
-    {
-      const int r = region[f];
-      if (r < 0)
-        continue;
-      if (!started[r])
-      {
-        started[r] = 1;
-        origin[r] = centre[f]; // small numbers for the moments
-      }
-      ++whole[r].Count;
-      whole[r].AddPosition(centre[f] - origin[r]);
-      whole[r].AddNormal(field[f], centre[f] - origin[r]);
-    }
-    vtkSMPTools::For(0, regions, [&](int b, int e) {
-      for (int r = b; r < e; ++r)
-      {
-        const RegionSample& w = whole[r];
-        planar[r] = 0;
-        if (w.Count < par.MinimumRegionSize)
-          continue;
-        const Eigen::Matrix3d cov = w.Covariance();
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
-        const Eigen::Vector3d ev = eig.eigenvalues();
-        // Only regions that reach beyond a band face's own search: in a
-        // smaller one the local fit sees the whole region anyway, and a
-        // plane through a few dozen noisy faces is less sure of its normal
-        // than their mean (measured: admitting them cost cube and sphere
-        // 128^3 at k = 0.3 a whole circle, recall 0.97 -> 0.82).
-        if (!(ev(1) > 1e-3 * std::max(ev(2), 1e-300)) ||
-          !(std::sqrt(ev(2)) >= par.SearchDepth * meanEdge2))
-          continue;
-        const Eigen::Vector3d m = eig.eigenvectors().col(0);
-        Eigen::Matrix3d cux;
-        const Eigen::Matrix3d S = RegionSample::InPlane(w.NormalSlope(cov, cux), m);
-        const Eigen::Vector3d k = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(S).eigenvalues();
-        const double turn = std::max(std::abs(k(0)), std::abs(k(2))) * 2.0 * std::sqrt(ev(2));
-        if (!(turn * 180.0 / 3.14159265358979323846 < par.PlanarRegionAngle))
-          continue;
-        Vec3 nrm(m(0), m(1), m(2));
-        planeNormal[r] = nrm.Dot(w.NormalSum) < 0 ? nrm * -1.0 : nrm;
-        planePoint[r] = origin[r] + w.CentroidSum * (1.0 / w.Count);
-        planar[r] = 1;
-      }
+    planar[r] = planes[r].Planar;
+    result.NumberOfPlanarRegions += planar[r];
+  }
+  std::vector<RegionQuadric> quadrics(regions);
+  std::vector<double> quadricDistance;
+  if (par.QuadricSides)
+  {
+    quadrics = FitRegionQuadrics(region, regions, centre, field, planar, par.MinimumRegionSize,
+      3.0 * par.SearchDepth * meanEdge2, meanEdge2);
+    quadricDistance.assign(F, 0.0);
+    vtkSMPTools::For(0, F, [&](std::int64_t b, std::int64_t e) {
+      for (std::int64_t f = b; f < e; ++f)
+        if (region[f] >= 0 && quadrics[region[f]].Valid)
+          quadricDistance[f] = quadrics[region[f]].Distance(centre[f]);
     });
-    for (int r = 0; r < regions; ++r)
-      result.NumberOfPlanarRegions += planar[r];
+    for (const auto& q : quadrics)
+      result.NumberOfQuadricRegions += q.Valid;
   }
 
   // 3. Band faces join the region whose local plane is nearest.
@@ -561,6 +222,8 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
           it = s.Samples.end() - 1;
         }
         ++it->Count;
+        if (!quadricDistance.empty())
+          it->QuadricDistanceSum += quadricDistance[f];
         // Relative to the band face: small numbers for the moments.
         it->AddPosition(centre[f] - centre[f0]);
         it->AddNormal(field[f], centre[f] - centre[f0]);
@@ -589,11 +252,18 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
         if (r.Count < support || (anyFacing && r.NormalSum.Dot(polyNormal[f0]) <= 0))
           continue;
         // Positions are relative to the band face (p = 0).
-        const bool flat = planar[r.Region] != 0;
-        const Vec3 n = flat ? planeNormal[r.Region] : r.NormalSum.Unit();
-        const Vec3 c = flat ? planePoint[r.Region] - centre[f0] : r.CentroidSum * (1.0 / r.Count);
+        const RegionPlane& plane = planes[r.Region];
+        const bool flat = plane.Planar;
+        const Vec3 n = flat ? plane.Normal : r.NormalSum.Unit();
+        const Vec3 c = flat ? plane.Point - centre[f0] : r.CentroidSum * (1.0 / r.Count);
         double sd = n.Dot(c * -1.0);
-        if (par.CurvedSides && !flat)
+        // A region's quadric decides where it still passes within an edge
+        // length of the faces found here (their mean distance to it): a
+        // surface that is no quadric is left to the local model.
+        const RegionQuadric& q = quadrics[r.Region];
+        if (!flat && q.Valid && std::abs(r.QuadricDistanceSum / r.Count) <= meanEdge2)
+          sd = q.Distance(centre[f0]);
+        else if (par.CurvedSides && !flat)
           sd += r.Fall(n, Vec3());
         bool take = !chosen;
         if (chosen)

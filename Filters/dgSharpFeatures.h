@@ -21,7 +21,10 @@
 //    take part; with CurvedSides, a side's plane bends by the curvature its
 //    normals show along the edge; a region whose normal field turns by
 //    less than PlanarRegionAngle across it takes part with the plane
-//    fitted to all its faces) and takes that side's fitted normal. A
+//    fitted to all its faces; with QuadricSides, another region larger
+//    than three searches with the quadric fitted to all its faces, where
+//    that quadric passes within an edge length of the faces found near
+//    the band face) and takes that side's fitted normal. A
 //    band face that meets no region keeps its normal and region -1.
 // 4. Regions meeting along a boundary whose mean normal jump (over the
 //    boundary's edges) is below MinimumFeatureAngle are merged: AT's false
@@ -63,6 +66,7 @@ struct SharpFeatureParameters
   double ReferenceWeight = 0.2; // how fast a region's reference normal follows its faces
   double RegionEdgeAngle = 10.0; // degrees; a region does not grow across a larger jump
   double PlanarRegionAngle = 6.0; // degrees; regions whose normals turn less are planes (0: none)
+  bool QuadricSides = true;       // large curved regions decide with their whole-region quadric
 };
 
 struct SharpFeatureResult
@@ -77,6 +81,7 @@ struct SharpFeatureResult
   int NumberOfDissolvedRegions = 0;         // regions smaller than the minimum
   int NumberOfMergedBoundaries = 0;         // region pairs merged in step 4
   int NumberOfPlanarRegions = 0;            // regions whose whole plane decides their sides
+  int NumberOfQuadricRegions = 0;           // regions whose whole quadric may decide their sides
   int NumberOfRefusedMerges = 0;            // weak boundaries left as lines: a strong one lies between
 };
 

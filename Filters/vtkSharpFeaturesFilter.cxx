@@ -76,6 +76,7 @@ int vtkSharpFeaturesFilter::RequestData(
   this->NumberOfBandFaces = this->NumberOfUnassignedFaces = 0;
   this->NumberOfRegions = 0;
   this->NumberOfPlanarRegions = 0;
+  this->NumberOfQuadricRegions = 0;
   if (!input || !output || !lines)
   {
     vtkErrorMacro("Missing input or output.");
@@ -100,6 +101,7 @@ int vtkSharpFeaturesFilter::RequestData(
   par.MinimumFeatureAngle = this->MinimumFeatureAngle;
   par.StrongFeatureAngle = this->StrongFeatureAngle;
   par.PlanarRegionAngle = this->PlanarRegionAngle;
+  par.QuadricSides = this->QuadricSides;
   par.RegionEdgeAngle = this->RegionEdgeAngle;
   std::string problem;
   if (!(par.FeatureThreshold > 0 && par.FeatureThreshold < 1))
@@ -239,6 +241,7 @@ int vtkSharpFeaturesFilter::RequestData(
   this->NumberOfUnassignedFaces = res.NumberOfUnassignedFaces;
   this->NumberOfRegions = res.NumberOfRegions;
   this->NumberOfPlanarRegions = res.NumberOfPlanarRegions;
+  this->NumberOfQuadricRegions = res.NumberOfQuadricRegions;
 
   output->ShallowCopy(input);
   vtkNew<vtkDoubleArray> sharp;
@@ -305,6 +308,8 @@ void vtkSharpFeaturesFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "StrongFeatureAngle: " << this->StrongFeatureAngle << "\n";
   os << indent << "PlanarRegionAngle: " << this->PlanarRegionAngle << "\n";
   os << indent << "NumberOfPlanarRegions: " << this->NumberOfPlanarRegions << "\n";
+  os << indent << "QuadricSides: " << (this->QuadricSides ? "On" : "Off") << "\n";
+  os << indent << "NumberOfQuadricRegions: " << this->NumberOfQuadricRegions << "\n";
   os << indent << "RegionEdgeAngle: " << this->RegionEdgeAngle << "\n";
   os << indent << "NumberOfBandFaces: " << this->NumberOfBandFaces << "\n";
   os << indent << "NumberOfUnassignedFaces: " << this->NumberOfUnassignedFaces << "\n";

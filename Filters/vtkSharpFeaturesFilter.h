@@ -17,7 +17,9 @@
  * - every band face joins the nearby region whose local plane (centroid and
  *   mean normal of the region's faces found within SearchDepth face steps;
  *   for a region flat within PlanarRegionAngle, the plane through all its
- *   faces) puts its outside voxel outside, and takes that side's normal;
+ *   faces; with QuadricSides, for another large region, the quadric through
+ *   all its faces) puts its outside voxel outside, and takes that side's
+ *   normal;
  * - regions whose common boundary has a mean normal jump below
  *   MinimumFeatureAngle (degrees) are merged, weakest first, never joining
  *   the two sides of a boundary of StrongFeatureAngle or more;
@@ -198,6 +200,26 @@ public:
 
   ///@{
   /**
+   * Curved regions that reach beyond three band-face searches (a face more
+   * than 3 SearchDepth edge lengths from their centroid) and are not planar
+   * take part in the choice of side with the quadric fitted to all their
+   * faces (positions and normals), wherever that quadric passes within an
+   * edge length of the region's faces near the band face; elsewhere, and
+   * for smaller regions, the local plane bent by CurvedSides decides. On a
+   * sphere or a cylinder the whole-region quadric is not tilted by the
+   * staircase and the noise that a few faces near the edge show. Default
+   * on.
+   */
+  vtkSetMacro(QuadricSides, bool);
+  vtkGetMacro(QuadricSides, bool);
+  vtkBooleanMacro(QuadricSides, bool);
+  ///@}
+
+  /// Regions given a quadric (QuadricSides) in the last execution.
+  vtkGetMacro(NumberOfQuadricRegions, int);
+
+  ///@{
+  /**
    * A region does not grow across an edge whose two faces' normals differ
    * by more than this angle (degrees, > 0, default 10): where AT's band has a
    * gap, the normal still turns over a few faces, and the two sides stay
@@ -238,6 +260,8 @@ protected:
   double StrongFeatureAngle = 30.0;
   double PlanarRegionAngle = 6.0;
   int NumberOfPlanarRegions = 0;
+  bool QuadricSides = true;
+  int NumberOfQuadricRegions = 0;
   double RegionEdgeAngle = 10.0;
   vtkIdType NumberOfBandFaces = 0;
   vtkIdType NumberOfUnassignedFaces = 0;
