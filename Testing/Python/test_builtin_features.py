@@ -1,0 +1,59 @@
+"""The program's default lines on its built-in shape (Applications/
+dgBuiltinShape.cxx: a rotated cube united with a sphere, minus a cylindrical
+hole) against the shape's analytic edges, which include the concave circles
+where the sphere leaves the cube's faces: every true edge has a line within
+1.5 voxels (recall; 0.999 measured, 0.90 when the stage's convexity test
+read a planar side's whole centroid), and most of the line length lies on a
+true edge (precision; 0.64 measured: the hole's 11.5-voxel wall is cut into
+strips, docs/quality.md's cylinder item). The scoring is
+Benchmarks/bench_builtin_features.py's."""
+import importlib.util
+import os
+import subprocess
+import sys
+
+from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+
+from digitalgeometry import vtkSharpFeaturesFilter
+
+here = os.path.dirname(os.path.abspath(__file__))
+spec = importlib.util.spec_from_file_location(
+    "bench_builtin_features", os.path.join(here, "..", "..", "Benchmarks", "bench_builtin_features.py"))
+bench = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(bench)
+
+failures = []
+
+
+def check(cond, what):
+    print(("ok   " if cond else "FAIL ") + what)
+    if not cond:
+        failures.append(what)
+
+
+out = os.path.join(os.environ.get("DG_TEST_TMP", "."), "builtin")
+r = subprocess.run([os.environ["DG_PROGRAM"], "--no-png", "--output-dir", out],
+                   stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+check(r.returncode == 0, f"the program runs on its built-in shape ({r.returncode})")
+reader = vtkXMLPolyDataReader()
+reader.SetFileName(os.path.join(out, "builtin_surface.vtp"))
+reader.Update()
+edges = bench.true_edges(step=0.3)
+edge_loc = bench.locator(edges)
+lines = vtkXMLPolyDataReader()
+lines.SetFileName(os.path.join(out, "builtin_features.vtp"))
+lines.Update()
+p, rc, n = bench.score(edges, edge_loc, lines.GetOutput())
+print(f"program's lines: P {p:.3f} R {rc:.3f} ({n} edges, {len(edges)} true-edge samples)")
+check(rc >= 0.97, f"recall {rc:.3f} >= 0.97")
+check(p >= 0.55, f"precision {p:.3f} >= 0.55")
+# The filter run again on the program's surface gives the program's lines.
+f = vtkSharpFeaturesFilter()
+f.SetInputData(reader.GetOutput())
+f.Update()
+check(f.GetOutput(1).GetNumberOfCells() == n, f"the filter on the written surface gives the same {n} lines")
+
+if failures:
+    print(f"{len(failures)} check(s) failed")
+    sys.exit(1)
+print("all checks passed")
