@@ -64,7 +64,7 @@ inline void ReduceBlocks(const std::vector<double>& partial, std::int64_t nb, in
 // fixed the sums stay in registers (y may alias w as far as the compiler
 // knows); a dynamic column count accumulates in y itself.
 template<int NC, class T>
-inline void RowProduct(const ATSystemMatrix& m,
+inline void RowProduct(const ATSystemView& m,
   std::int64_t i,
   const T* w,
   double* y,
@@ -98,7 +98,7 @@ inline void RowProduct(const ATSystemMatrix& m,
 // q = A p for all columns and the per-column sums p.q (fixed blocks, summed
 // in order); partial holds at least NumberOfBlocks(n) * nc values.
 template<int NC>
-inline void ProductAndDot(const ATSystemMatrix& m,
+inline void ProductAndDot(const ATSystemView& m,
   const std::vector<double>& p,
   std::vector<double>& q,
   int ncRun,
@@ -163,7 +163,7 @@ inline void Deinterleave(const std::vector<double>& v, Eigen::MatrixXd& a)
 // the two common cases (1 for v, 3 for normals).
 template<class System>
 bool SolveColumns(System& system,
-  const ATSystemMatrix& m,
+  const ATSystemView& m,
   const Eigen::MatrixXd& b,
   Eigen::MatrixXd& x)
 {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 namespace dg
 {
@@ -50,6 +51,18 @@ constexpr std::int64_t ICMinBlockRows = 16384, ICMaxBlockRows = 65536, ICTargetB
 constexpr double FloatCheckTolerance = 1e-6;
 constexpr int MaxRestarts = 3;
 
+// CG's work vectors, kept from one solve to the next (fresh ones would cost
+// page faults and zeroing at every step) and shared by the u- and v-systems,
+// which never solve at the same time: the v-system's own set would hold 24
+// more bytes per surfel for nothing (docs/at-speed.md). Nothing in them
+// carries over from one solve to the next.
+template<class S>
+struct ICWork
+{
+  std::vector<double> Partial, X;
+  std::vector<S> R, P, Q, Z;
+};
+
 // S stores the CG vectors r, p, q and z (float or double); x and every sum
 // stay in double. See MakeICSystem for why float.
 template<class S>
@@ -61,13 +74,25 @@ public:
     , MaxIterations(maxIterations)
     , Dist(distribution)
     , Kind(kind)
+    , Work(std::make_shared<ICWork<S>>())
   {
   }
   void SetTolerance(double tolerance) override { this->Tolerance = tolerance; }
+  bool ShareWork(ATLinearSystem& other) override
+  {
+    auto* o = dynamic_cast<ICSystem<S>*>(&other);
+    if (!o || o == this)
+    {
+      return false;
+    }
+    this->Work = o->Work;
+    this->WorkOwner = false;
+    return true;
+  }
 
   // The rows this process solves: all of them, or its owned ones (numbered
   // first; the rest are ghosts, read by the products but never updated).
-  std::int64_t Rows(const ATSystemMatrix& m) const
+  std::int64_t Rows(const ATSystemView& m) const
   {
     return this->Dist ? this->Dist->Owned(this->Kind) : m.cols();
   }
@@ -87,7 +112,7 @@ public:
     }
   }
 
-  bool Analyze(const ATSystemMatrix& m) override
+  bool Analyze(const ATSystemView& m) override
   {
     const std::int64_t n = this->Rows(m);
     const int* outer = m.outerIndexPtr();
@@ -147,7 +172,7 @@ public:
   // index maps are stored. Row i of the matrix lists its lower in-block
   // entries in the order of LCol (columns ascending), which is how
   // Factorize finds their values without stored positions.
-  bool Factorize(const ATSystemMatrix& m) override
+  bool Factorize(const ATSystemView& m) override
   {
     const std::int64_t n = this->Rows(m);
     const int* outer = m.outerIndexPtr();
@@ -254,7 +279,7 @@ public:
     return true;
   }
 
-  bool Solve(const ATSystemMatrix& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& x) override
+  bool Solve(const ATSystemView& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& x) override
   {
     return SolveColumns(*this, m, b, x);
   }
@@ -283,7 +308,8 @@ public:
   {
     const int nc = NC > 0 ? NC : ncRun;
     const std::int64_t nBlocks = static_cast<std::int64_t>(this->Blocks.size()) - 1;
-    this->Partial.resize(nBlocks * 2 * nc); // every block writes its own sums
+    std::vector<double>& partialSums = this->Work->Partial;
+    partialSums.resize(nBlocks * 2 * nc); // every block writes its own sums
     double aFixed[NC > 0 ? NC : 1] = {};
     std::vector<double> aDyn(NC > 0 ? 0 : nc);
     double* a = NC > 0 ? aFixed : aDyn.data();
@@ -375,11 +401,11 @@ public:
           {
             backward(i, t);
           }
-          std::copy(s, s + 2 * nc, this->Partial.begin() + blk * 2 * nc);
+          std::copy(s, s + 2 * nc, partialSums.begin() + blk * 2 * nc);
         }
       });
     std::vector<double> sums(2 * nc);
-    ReduceBlocks(this->Partial, nBlocks, 2 * nc, sums.data());
+    ReduceBlocks(partialSums, nBlocks, 2 * nc, sums.data());
     this->Sum(sums.data(), 2 * nc);
     std::copy(sums.begin(), sums.begin() + nc, rr);
     std::copy(sums.begin() + nc, sums.end(), rz);
@@ -389,7 +415,7 @@ public:
   // is (1, beta) for an active column, (0, 1) to keep a converged one, and
   // (1, 0) for the first direction.
   template<int NC>
-  void NextDirection(const ATSystemMatrix& m,
+  void NextDirection(const ATSystemView& m,
     const std::vector<S>& z,
     std::vector<S>& p,
     std::vector<S>& q,
@@ -439,7 +465,7 @@ public:
   }
 
   template<int NC>
-  bool SolveN(const ATSystemMatrix& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& xOut, int ncRun)
+  bool SolveN(const ATSystemView& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& xOut, int ncRun)
   {
     const int nc = NC > 0 ? NC : ncRun;
     const std::int64_t n = this->Rows(m);
@@ -447,15 +473,31 @@ public:
     {
       xOut = Eigen::MatrixXd::Zero(m.cols(), nc);
     }
-    // Work vectors kept from one solve to the next: fresh ones would cost
-    // page faults and zeroing at every step.
-    std::vector<double>& x = this->X;
-    std::vector<S>&r = this->R, &p = this->P, &q = this->Q, &z = this->Z;
-    Interleave(xOut, x);
-    // Full length: the products read the ghost rows of z.
-    p.resize(m.cols() * nc);
-    q.resize(m.cols() * nc);
-    z.resize(m.cols() * nc);
+    ICWork<S>& work = *this->Work;
+    std::vector<double>& x = work.X;
+    std::vector<S>&r = work.R, &p = work.P, &q = work.Q, &z = work.Z;
+    // Full length (the products read the ghost rows of z), and only ever
+    // grown: the vectors alternate between the u- and v-systems' sizes, and
+    // shrinking then growing again would zero the difference at every step.
+    const std::size_t len = static_cast<std::size_t>(m.cols()) * nc;
+    for (std::vector<S>* w : { &r, &p, &q, &z })
+    {
+      if (w->size() < len)
+      {
+        w->resize(len);
+      }
+    }
+    if (x.size() < len)
+    {
+      x.resize(len);
+    }
+    for (int c = 0; c < nc; ++c)
+    {
+      for (std::int64_t i = 0; i < xOut.rows(); ++i)
+      {
+        x[i * nc + c] = xOut(i, c);
+      }
+    }
     const std::int64_t nb = NumberOfBlocks(n);
     std::vector<double> partial(nb * 2 * nc);
     std::vector<double> sums(2 * nc);
@@ -470,7 +512,6 @@ public:
     int it = 0, nActive = 0;
     for (int restart = 0; restart <= MaxRestarts; ++restart)
     {
-      r.resize(m.cols() * nc);
       this->Ghosts(x, nc);
       // r = b - A x, from b in double; sums of b.b and r.r.
       const double* bData = b.data();
@@ -552,7 +593,8 @@ public:
       }
     }
     this->Iterations += it;
-    bool ok = nActive == 0 && AllFinite(x);
+    bool ok = nActive == 0 &&
+      std::all_of(x.begin(), x.begin() + len, [](double a) { return std::isfinite(a); });
     if (this->Dist)
     {
       ok = this->Dist->AllOk(ok);
@@ -573,10 +615,14 @@ public:
       bytes(this->LPtr) + bytes(this->LCol) + bytes(this->Blocks));
     parts.emplace_back(name + ": IC factor (C values, 1/C_ii; float)",
       bytes(this->LVal) + bytes(this->InvC));
-    parts.emplace_back(name + (sizeof(S) == 4 ? ": CG vectors (x; r, p, q, z in float)"
-                                              : ": CG vectors (x, r, p, q, z)"),
-      bytes(this->X) + bytes(this->R) + bytes(this->P) + bytes(this->Q) + bytes(this->Z) +
-        bytes(this->Partial));
+    const ICWork<S>& w = *this->Work;
+    parts.emplace_back(name +
+        (!this->WorkOwner        ? ": CG vectors (shared with the u solver)"
+            : sizeof(S) == 4 ? ": CG vectors (x; r, p, q, z in float)"
+                             : ": CG vectors (x, r, p, q, z)"),
+      !this->WorkOwner ? 0
+                       : bytes(w.X) + bytes(w.R) + bytes(w.P) + bytes(w.Q) + bytes(w.Z) +
+          bytes(w.Partial));
   }
 
 private:
@@ -589,8 +635,8 @@ private:
   std::vector<int> LPtr;
   std::vector<int> LCol;
   std::vector<float> LVal, InvC; // C's entries below the diagonal, 1 / C_ii
-  std::vector<double> Partial, X;
-  std::vector<S> R, P, Q, Z;
+  std::shared_ptr<ICWork<S>> Work;
+  bool WorkOwner = true;
 };
 } // namespace
 

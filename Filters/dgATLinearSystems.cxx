@@ -18,17 +18,17 @@ template<class Factor>
 class DirectSystem : public ATLinearSystem
 {
 public:
-  bool Analyze(const ATSystemMatrix& m) override
+  bool Analyze(const ATSystemView& m) override
   {
-    this->F.analyzePattern(m);
+    this->F.analyzePattern(ATSystemMatrix(m)); // a copy: these solvers are the slow references
     return this->F.info() == Eigen::Success;
   }
-  bool Factorize(const ATSystemMatrix& m) override
+  bool Factorize(const ATSystemView& m) override
   {
-    this->F.factorize(m);
+    this->F.factorize(ATSystemMatrix(m));
     return this->F.info() == Eigen::Success;
   }
-  bool Solve(const ATSystemMatrix&, const Eigen::MatrixXd& b, Eigen::MatrixXd& x) override
+  bool Solve(const ATSystemView&, const Eigen::MatrixXd& b, Eigen::MatrixXd& x) override
   {
     Eigen::MatrixXd y = this->F.solve(b);
     if (this->F.info() != Eigen::Success || !y.allFinite())
@@ -55,7 +55,7 @@ public:
   {
   }
   void SetTolerance(double tolerance) override { this->Tolerance = tolerance; }
-  bool Factorize(const ATSystemMatrix& m) override
+  bool Factorize(const ATSystemView& m) override
   {
     const std::int64_t n = m.cols();
     this->InvDiag.resize(n);
@@ -76,7 +76,7 @@ public:
     return ok;
   }
 
-  bool Solve(const ATSystemMatrix& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& x) override
+  bool Solve(const ATSystemView& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& x) override
   {
     return SolveColumns(*this, m, b, x);
   }
@@ -92,7 +92,7 @@ public:
   // p = D^-1 r + beta p in one sweep. Same iterates as the textbook
   // algorithm, two vector passes fewer per iteration.
   template<int NC>
-  bool SolveN(const ATSystemMatrix& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& xOut, int ncRun)
+  bool SolveN(const ATSystemView& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& xOut, int ncRun)
   {
     const int nc = NC > 0 ? NC : ncRun;
     const std::int64_t n = m.cols();

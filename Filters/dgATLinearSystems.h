@@ -17,15 +17,18 @@ class ATLinearSystem
 {
 public:
   virtual ~ATLinearSystem() = default;
-  virtual bool Analyze(const ATSystemMatrix&) { return true; }
-  virtual bool Factorize(const ATSystemMatrix&) = 0;
+  virtual bool Analyze(const ATSystemView&) { return true; }
+  virtual bool Factorize(const ATSystemView&) = 0;
   /// x holds the previous solution on entry (a warm start for iterative
   /// solvers) and the new one on success.
-  virtual bool Solve(const ATSystemMatrix& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& x) = 0;
+  virtual bool Solve(const ATSystemView& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& x) = 0;
   /// The bytes this solver holds (factor, work vectors), by name.
   virtual void Memory(ATMemoryParts&, const std::string&) const {}
   /// Iterative solvers: the relative residual to stop at (direct ones ignore it).
   virtual void SetTolerance(double) {}
+  /// Solves with `other`'s work vectors from now on (the two must never
+  /// solve at the same time); false when the two solvers cannot share.
+  virtual bool ShareWork(ATLinearSystem&) { return false; }
   bool Analyzed = false;
   std::int64_t Iterations = 0;
 };

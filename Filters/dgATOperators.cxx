@@ -38,14 +38,13 @@ std::int64_t PrefixSum(std::vector<T>& a)
   return s;
 }
 
-// An n x n pattern with nnz zero values, its column starts from ptr; the
-// caller fills the row indices in place (no separate column array).
-void StartPattern(ATSystemMatrix& m, std::int64_t n, const std::vector<int>& ptr)
+// An n x n pattern, its column starts from ptr; the caller fills the row
+// indices in place.
+void StartPattern(ATPattern& m, std::int64_t n, const std::vector<int>& ptr)
 {
-  m.resize(static_cast<int>(n), static_cast<int>(n));
-  m.resizeNonZeros(static_cast<Eigen::Index>(ptr[n]));
-  std::copy(ptr.begin(), ptr.end(), m.outerIndexPtr());
-  std::fill(m.valuePtr(), m.valuePtr() + ptr[n], 0.0);
+  m.N = n;
+  m.Outer.assign(ptr.begin(), ptr.begin() + n + 1);
+  m.Inner.assign(static_cast<std::size_t>(ptr[n]), 0);
 }
 } // namespace
 
@@ -270,7 +269,7 @@ void ATComplex::BuildSystemPatterns()
   });
   PrefixSum(rowPtr);
   StartPattern(this->UPattern, nf, rowPtr);
-  int* uInner = this->UPattern.innerIndexPtr();
+  int* uInner = this->UPattern.Inner.data();
   vtkSMPTools::For(0, nf, [&](std::int64_t fb, std::int64_t fe) {
     std::vector<int> columns;
     for (std::int64_t f = fb; f < fe; ++f)
@@ -284,8 +283,8 @@ void ATComplex::BuildSystemPatterns()
   vtkSMPTools::For(0, nf, [&](std::int64_t fb, std::int64_t fe) {
     for (std::int64_t f = fb; f < fe; ++f)
     {
-      const int* r0 = uInner + this->UPattern.outerIndexPtr()[f];
-      const int* r1 = uInner + this->UPattern.outerIndexPtr()[f + 1];
+      const int* r0 = uInner + this->UPattern.Outer[f];
+      const int* r1 = uInner + this->UPattern.Outer[f + 1];
       for (int j = this->FaceEdgePtr[f]; j < this->FaceEdgePtr[f + 1]; ++j)
       {
         const int e = this->FaceEdges[j], i0 = this->EdgeFacePtr[e];
@@ -316,7 +315,7 @@ void ATComplex::BuildSystemPatterns()
   }
   PrefixSum(vPtr);
   StartPattern(this->VPattern, nv, vPtr);
-  int* vInner = this->VPattern.innerIndexPtr();
+  int* vInner = this->VPattern.Inner.data();
   vtkSMPTools::For(0, nv, [&](std::int64_t vb, std::int64_t ve) {
     for (std::int64_t v = vb; v < ve; ++v)
     {
@@ -351,12 +350,6 @@ std::size_t Bytes(const std::vector<T>& v)
 }
 } // namespace
 
-std::size_t MatrixBytes(const ATSystemMatrix& m)
-{
-  return static_cast<std::size_t>(m.nonZeros()) * (sizeof(double) + sizeof(int)) +
-    static_cast<std::size_t>(m.outerSize() + 1) * sizeof(int);
-}
-
 void ATComplex::Memory(ATMemoryParts& parts) const
 {
   parts.emplace_back("complex: edge vertices", Bytes(this->EdgeVertices));
@@ -366,8 +359,8 @@ void ATComplex::Memory(ATMemoryParts& parts) const
     "complex: vertex -> edges (ptr, edges)", Bytes(this->VertexEdgePtr) + Bytes(this->VertexEdges));
   parts.emplace_back("complex: face -> edges (ptr, edges, codes; u assembly)",
     Bytes(this->FaceEdgePtr) + Bytes(this->FaceEdges) + Bytes(this->FaceEdgeCode));
-  parts.emplace_back("complex: u pattern (zero values + indices)", MatrixBytes(this->UPattern));
-  parts.emplace_back("complex: v pattern (zero values + indices)", MatrixBytes(this->VPattern));
+  parts.emplace_back("complex: u pattern (indices)", this->UPattern.Bytes());
+  parts.emplace_back("complex: v pattern (indices)", this->VPattern.Bytes());
 }
 
 ATSparse ATComplex::MatrixA() const

@@ -37,11 +37,31 @@ using ATSparse = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
 /// major, so that the same arrays serve a row-wise product and the direct
 /// solvers (which read one triangle).
 using ATSystemMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+/// A system matrix over a pattern and values held elsewhere: the solver's
+/// two systems share one values buffer (ATSolver).
+using ATSystemView = Eigen::Map<ATSystemMatrix>;
 
 /// Bytes held per named structure (allocated capacity), for memory tables.
 using ATMemoryParts = std::vector<std::pair<std::string, std::size_t>>;
-/// Bytes of a sparse matrix's values, inner indices and column starts.
-std::size_t MatrixBytes(const ATSystemMatrix& m);
+
+/// The sparsity pattern of an n x n system matrix, without values: column
+/// starts and row indices of the compressed column-major form.
+struct ATPattern
+{
+  std::int64_t N = 0;
+  std::vector<int> Outer, Inner;
+  std::int64_t NonZeros() const { return this->Outer.empty() ? 0 : this->Outer.back(); }
+  /// The matrix of this pattern with the given values (NonZeros() of them).
+  ATSystemView View(double* values)
+  {
+    return ATSystemView(static_cast<Eigen::Index>(this->N), static_cast<Eigen::Index>(this->N),
+      static_cast<Eigen::Index>(this->NonZeros()), this->Outer.data(), this->Inner.data(), values);
+  }
+  std::size_t Bytes() const
+  {
+    return (this->Outer.capacity() + this->Inner.capacity()) * sizeof(int);
+  }
+};
 
 /// Combinatorics of a polygonal complex: faces, unique edges and their
 /// incidences, plus the fixed sparsity patterns of both AT systems.
@@ -96,7 +116,8 @@ public:
   /// (ATSolver::TakePatterns).
   bool HasSystemPatterns() const
   {
-    return this->UPattern.rows() == this->NFaces && this->VPattern.rows() == this->NVertices;
+    return this->UPattern.N == this->NFaces && this->VPattern.N == this->NVertices &&
+      !this->UPattern.Outer.empty() && !this->VPattern.Outer.empty();
   }
 
   /// The bytes of every array above, by name.
@@ -106,12 +127,12 @@ public:
   /// and every face sharing an interior edge with f, columns ascending. Its
   /// values are assembled from FaceEdges and EdgeFaces (ATSolver::AssembleU):
   /// no per-non-zero map is stored (it took 84 bytes per face).
-  ATSystemMatrix UPattern;
+  ATPattern UPattern;
 
   /// Pattern of the v-system (N x N): the vertex graph plus the diagonal
   /// (the k-th off-diagonal entry of row a comes from VertexEdges' k-th edge
   /// of a, see above).
-  ATSystemMatrix VPattern;
+  ATPattern VPattern;
 
 private:
   void BuildSystemPatterns();

@@ -95,8 +95,8 @@ std::string ATParameters::Check() const
 ATSolver::ATSolver(const ATComplex& complex, const ATParameters& parameters)
   : Complex(complex)
   , Params(parameters)
-  , UM(complex.UPattern)
-  , VM(complex.VPattern)
+  , UP(complex.UPattern)
+  , VP(complex.VPattern)
 {
 }
 
@@ -104,8 +104,10 @@ ATSolver::ATSolver(ATComplex& complex, const ATParameters& parameters, TakePatte
   : Complex(complex)
   , Params(parameters)
 {
-  this->UM.swap(complex.UPattern);
-  this->VM.swap(complex.VPattern);
+  this->UP = std::move(complex.UPattern);
+  this->VP = std::move(complex.VPattern);
+  complex.UPattern = ATPattern();
+  complex.VPattern = ATPattern();
 }
 
 ATSolver::~ATSolver() = default;
@@ -143,6 +145,35 @@ void ATSolver::InitializeFromU()
   this->LastVChange = 0;
 }
 
+double* ATSolver::SystemValues()
+{
+  const std::size_t n =
+    static_cast<std::size_t>(std::max(this->UP.NonZeros(), this->VP.NonZeros()));
+  if (this->Values.size() != n)
+  {
+    this->Values.assign(n, 0.0);
+  }
+  return this->Values.data();
+}
+
+ATSystemMatrix ATSolver::UMatrix()
+{
+  if (this->ValuesHold != 0)
+  {
+    this->AssembleU();
+  }
+  return ATSystemMatrix(this->UP.View(this->Values.data()));
+}
+
+ATSystemMatrix ATSolver::VMatrix()
+{
+  if (this->ValuesHold != 1)
+  {
+    this->AssembleV(this->VAssemblyEpsilon > 0 ? this->VAssemblyEpsilon : this->Params.EpsilonEnd);
+  }
+  return ATSystemMatrix(this->VP.View(this->Values.data()));
+}
+
 void ATSolver::AssembleU()
 {
   const ATComplex& K = this->Complex;
@@ -162,9 +193,10 @@ void ATSolver::AssembleU()
         w[e] = ratio ? ratio[e] * (m * m) : m * m;
       }
     });
-  const int* outer = this->UM.outerIndexPtr();
-  const int* inner = this->UM.innerIndexPtr();
-  double* val = this->UM.valuePtr();
+  const int* outer = this->UP.Outer.data();
+  const int* inner = this->UP.Inner.data();
+  double* val = this->SystemValues();
+  this->ValuesHold = 0;
   const double alpha = this->Params.Alpha;
   // Entry (f, g) = sum over the interior edges e shared by f and g, in
   // ascending order, of s_f(e) s_g(e) w(e), then alpha (or alpha |f|) on the
@@ -255,9 +287,11 @@ void ATSolver::AssembleV(double epsilon)
     });
   const double lambda = this->Params.Lambda;
   const double diagConst = lambda / (4 * epsilon), lapl = lambda * epsilon;
-  const int* outer = this->VM.outerIndexPtr();
-  const int* inner = this->VM.innerIndexPtr();
-  double* val = this->VM.valuePtr();
+  const int* outer = this->VP.Outer.data();
+  const int* inner = this->VP.Inner.data();
+  double* val = this->SystemValues();
+  this->ValuesHold = 1;
+  this->VAssemblyEpsilon = epsilon;
   ForBlocks(nv,
     [&](std::int64_t, std::int64_t a0, std::int64_t a1)
     {
@@ -298,7 +332,7 @@ void ATSolver::AssembleV(double epsilon)
 }
 
 bool ATSolver::SolveSystem(ATLinearSystem& system,
-  const ATSystemMatrix& m,
+  const ATSystemView& m,
   const Eigen::MatrixXd& b,
   Eigen::MatrixXd& x,
   const char* name)
@@ -339,36 +373,46 @@ bool ATSolver::SolveSystem(ATLinearSystem& system,
   return true;
 }
 
+void ATSolver::MakeSystems()
+{
+  if (this->USystem && this->VSystem)
+  {
+    return;
+  }
+  this->USystem = this->Distribution
+    ? MakeICSystem(this->Params.CGTolerance, this->Params.CGMaximumIterations, this->Distribution,
+        0, this->Params.CGSinglePrecision)
+    : MakeATLinearSystem(this->Params);
+  ATParameters vParams = this->Params;
+  vParams.CGTolerance *= this->Params.CGToleranceVFactor;
+  this->VSystem = this->Distribution
+    ? MakeICSystem(this->Params.CGTolerance * this->Params.CGToleranceVFactor,
+        this->Params.CGMaximumIterations, this->Distribution, 1, this->Params.CGSinglePrecision)
+    : MakeATLinearSystem(vParams);
+  // The two steps alternate, so one set of CG work vectors serves both.
+  if (this->USystem && this->VSystem)
+  {
+    this->VSystem->ShareWork(*this->USystem);
+  }
+}
+
 bool ATSolver::StepU()
 {
-  if (!this->USystem)
-  {
-    this->USystem = this->Distribution
-      ? MakeICSystem(this->Params.CGTolerance, this->Params.CGMaximumIterations,
-          this->Distribution, 0, this->Params.CGSinglePrecision)
-      : MakeATLinearSystem(this->Params);
-  }
+  this->MakeSystems();
   this->USystem->SetTolerance(this->Params.CGTolerance * this->ToleranceFactor);
   auto t0 = Clock::now();
   this->AssembleU();
   this->Stats.Assembly += Seconds(t0);
   const std::int64_t it0 = this->Stats.CGIterations;
-  const bool ok = this->SolveSystem(*this->USystem, this->UM, this->URhs, this->u, "u-step");
+  const bool ok = this->SolveSystem(
+    *this->USystem, this->UP.View(this->Values.data()), this->URhs, this->u, "u-step");
   this->Stats.CGIterationsU += this->Stats.CGIterations - it0;
   return ok;
 }
 
 bool ATSolver::StepV(double epsilon)
 {
-  if (!this->VSystem)
-  {
-    ATParameters vParams = this->Params;
-    vParams.CGTolerance *= this->Params.CGToleranceVFactor;
-    this->VSystem = this->Distribution
-      ? MakeICSystem(this->Params.CGTolerance * this->Params.CGToleranceVFactor,
-          this->Params.CGMaximumIterations, this->Distribution, 1, this->Params.CGSinglePrecision)
-      : MakeATLinearSystem(vParams);
-  }
+  this->MakeSystems();
   this->VSystem->SetTolerance(
     this->Params.CGTolerance * this->Params.CGToleranceVFactor * this->ToleranceFactor);
   auto t0 = Clock::now();
@@ -388,7 +432,8 @@ bool ATSolver::StepV(double epsilon)
   }
   this->VX.resize(this->v.size(), 1);
   this->VX.col(0) = this->v;
-  const bool ok = this->SolveSystem(*this->VSystem, this->VM, this->VRhs, this->VX, "v-step");
+  const bool ok = this->SolveSystem(
+    *this->VSystem, this->VP.View(this->Values.data()), this->VRhs, this->VX, "v-step");
   // The stopping rule's max |v - v_prev| over the owned rows, taken here
   // where both are at hand (Run kept a copy of v for it: 8 bytes a vertex).
   this->LastVChange = 0;
@@ -412,8 +457,10 @@ void ATSolver::Memory(ATMemoryParts& parts) const
   parts.emplace_back("solver: v, v right-hand side, v unknown",
     static_cast<std::size_t>(this->v.size()) * sizeof(double) + dense(this->VRhs) + dense(this->VX));
   parts.emplace_back("solver: per-edge work", this->EdgeWork.capacity() * sizeof(double));
-  parts.emplace_back("solver: u matrix values + indices", MatrixBytes(this->UM));
-  parts.emplace_back("solver: v matrix values + indices", MatrixBytes(this->VM));
+  parts.emplace_back("solver: u pattern (indices)", this->UP.Bytes());
+  parts.emplace_back("solver: v pattern (indices)", this->VP.Bytes());
+  parts.emplace_back("solver: matrix values (one buffer, u and v in turn)",
+    this->Values.capacity() * sizeof(double));
   if (this->USystem)
   {
     this->USystem->Memory(parts, "u solver");
@@ -528,8 +575,8 @@ bool ATSolver::Prepare(const Eigen::MatrixXd& field)
   {
     return false;
   }
-  if (this->UM.rows() != this->Complex.NumberOfFaces() ||
-    this->VM.rows() != this->Complex.NumberOfVertices())
+  if (this->UP.N != this->Complex.NumberOfFaces() || this->UP.Outer.empty() ||
+    this->VP.N != this->Complex.NumberOfVertices() || this->VP.Outer.empty())
   {
     this->ErrorText = "the complex's system patterns were taken by another solver";
     return false;

@@ -160,7 +160,7 @@ class ATSolver
 public:
   explicit ATSolver(const ATComplex& complex, const ATParameters& parameters = ATParameters());
   /// The same, taking the complex's system patterns instead of copying them
-  /// (128 bytes per face of a closed quad surface that would otherwise be
+  /// (48 bytes per face of a closed quad surface that would otherwise be
   /// held twice). The complex keeps everything else; no other solver can
   /// then be built on it (its Run() fails with a message).
   struct TakePatternsTag
@@ -207,9 +207,11 @@ public:
   const Eigen::VectorXd& V() const { return this->v; }
   Eigen::MatrixXd& U() { return this->u; }
   Eigen::VectorXd& V() { return this->v; }
-  /// The system matrices with the values of the last assembly.
-  const ATSystemMatrix& UMatrix() const { return this->UM; }
-  const ATSystemMatrix& VMatrix() const { return this->VM; }
+  /// Copies of the system matrices for the current u and v (VMatrix: for
+  /// the epsilon of the last AssembleV). The two systems share one values
+  /// buffer, so each assembles again when the buffer holds the other's.
+  ATSystemMatrix UMatrix();
+  ATSystemMatrix VMatrix();
   void AssembleU();
   void AssembleV(double epsilon);
 
@@ -225,8 +227,9 @@ private:
   bool Prepare(const Eigen::MatrixXd& field);
   bool Schedule(const ATProgressCallback& progress);
   void InitializeFromU();
+  void MakeSystems();
   bool SolveSystem(ATLinearSystem& system,
-    const ATSystemMatrix& m,
+    const ATSystemView& m,
     const Eigen::MatrixXd& b,
     Eigen::MatrixXd& x,
     const char* name);
@@ -244,7 +247,14 @@ private:
   // v-step's unknown as a matrix, kept between steps.
   Eigen::MatrixXd URhs, VRhs, VX;
   std::vector<double> EdgeWork; // per-edge weights or jumps of the assembly
-  ATSystemMatrix UM, VM;
+  // The systems' patterns and one values buffer for both: a step assembles
+  // its system, factorises and solves it, and the next step's system then
+  // overwrites the values (40 bytes per surfel less on a quad surface).
+  ATPattern UP, VP;
+  std::vector<double> Values;
+  int ValuesHold = -1;        // 0: the u-system's values, 1: the v-system's, -1: none
+  double VAssemblyEpsilon = 0; // the epsilon of the last AssembleV
+  double* SystemValues();
   std::unique_ptr<ATLinearSystem> USystem, VSystem;
   std::vector<std::string> WarningList;
   std::string ErrorText;
