@@ -5,6 +5,10 @@
 #include <vtkXMLWriter.h>
 
 #include <sys/resource.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <cstring>
 
 #include <iostream>
 #include <sstream>
@@ -85,4 +89,35 @@ long long OwnedCells(vtkPolyData* pd)
     n += ghosts->GetValue(c) == 0 ? 1 : 0;
   return n;
 }
+bool HugePageMalloc()
+{
+  const char* tunables = std::getenv("GLIBC_TUNABLES");
+  return tunables && std::strstr(tunables, "glibc.malloc.hugetlb=1");
+}
+
+void ReexecWithHugePages(char* argv[])
+{
+#if defined(__linux__)
+  const char* opt = std::getenv("DG_HUGEPAGES");
+  const char* tunables = std::getenv("GLIBC_TUNABLES");
+  if ((opt && std::strcmp(opt, "0") == 0) || (tunables && std::strstr(tunables, "glibc.malloc.hugetlb")))
+  {
+    return;
+  }
+  std::string value = "glibc.malloc.hugetlb=1";
+  if (tunables && *tunables)
+  {
+    value = std::string(tunables) + ":" + value;
+  }
+  if (setenv("GLIBC_TUNABLES", value.c_str(), 1) != 0)
+  {
+    return;
+  }
+  execv("/proc/self/exe", argv);
+  // Still here: the exec failed; go on as we are (the variable is harmless).
+#else
+  (void)argv;
+#endif
+}
+
 } // namespace dgapp

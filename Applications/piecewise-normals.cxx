@@ -42,6 +42,7 @@ using namespace dgapp;
 
 int main(int argc, char* argv[])
 {
+  ReexecWithHugePages(argv); // before anything is allocated or printed
   const Options opt = ParseOptions(argc, argv);
   if (!std::getenv("VTK_SMP_BACKEND_IN_USE"))
   {
@@ -358,7 +359,7 @@ int main(int argc, char* argv[])
               << " cavities smaller than " << opt.P.MinimumComponentSize << " voxels (" << changed
               << " voxels)\n";
   std::cout << "  time: " << stages.str() << " (total " << total << " s); peak memory "
-            << static_cast<long>(PeakMemoryMiB()) << " MiB\n";
+            << static_cast<long>(PeakMemoryMiB()) << " MiB" << (HugePageMalloc() ? " (huge-page malloc)" : "") << "\n";
   for (const auto& f : files.Finals)
     std::cout << "  wrote " << f << "\n";
   return 0;

@@ -29,6 +29,7 @@
 //   compare two builds bitwise (cmp); --no-triad skips the STREAM triad.
 #include "dgATOperators.h"
 #include "dgATSolver.h"
+#include "dgHugePages.h"
 #include "vtkAmbrosioTortorelliFilter.h"
 #include "vtkDGtalVolReader.h"
 #include "vtkDigitalSurfaceFilter.h"
@@ -497,6 +498,7 @@ int main(int argc, char* argv[])
       vtkDataArray* field = input->GetCellData()->GetNormals();
       const int nc = field->GetNumberOfComponents();
       Eigen::MatrixXd g(nFaces, nc);
+      dg::AdviseHugePages(g.data(), static_cast<std::size_t>(g.size()) * sizeof(double)); // before first touch
       {
         const auto tuples = vtk::DataArrayTupleRange(field);
         vtkSMPTools::For(0, nFaces, [&](vtkIdType b, vtkIdType e) {
@@ -511,8 +513,8 @@ int main(int argc, char* argv[])
         });
       }
       std::vector<std::int64_t> offsets, connectivity;
-      offsets.assign(static_cast<std::size_t>(nFaces + 1), 0);
-      connectivity.assign(static_cast<std::size_t>(polys->GetNumberOfConnectivityIds()), 0);
+      dg::AssignHuge(offsets, static_cast<std::size_t>(nFaces + 1), std::int64_t(0));
+      dg::AssignHuge(connectivity, static_cast<std::size_t>(polys->GetNumberOfConnectivityIds()), std::int64_t(0));
       {
         const auto off = vtk::DataArrayValueRange<1>(polys->GetOffsetsArray());
         const auto conn = vtk::DataArrayValueRange<1>(polys->GetConnectivityArray());

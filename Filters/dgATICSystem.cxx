@@ -1,6 +1,7 @@
 #include "dgATLinearSystems.h"
 
 #include "dgATBlocks.h"
+#include "dgHugePages.h"
 
 #include <algorithm>
 #include <cmath>
@@ -126,13 +127,13 @@ public:
     }
     // Two passes: count, then fill arrays of the exact size (push_back's
     // doubling left about 13 bytes per row unused).
-    this->LPtr.assign(n + 1, 0);
+    AssignHuge(this->LPtr, static_cast<std::size_t>(n + 1), 0);
     for (int pass = 0; pass < 2; ++pass)
     {
       if (pass == 1)
       {
-        this->LCol.assign(this->LPtr[n], 0);
-        this->LCol.shrink_to_fit();
+        std::vector<int>().swap(this->LCol);
+        AssignHuge(this->LCol, static_cast<std::size_t>(this->LPtr[n]), 0);
       }
       for (std::int64_t i = 0, blk = 0; i < n; ++i)
       {
@@ -189,9 +190,10 @@ public:
       }
       return 0.0;
     };
-    this->LVal.resize(this->LCol.size());
-    this->InvC.resize(n);
-    std::vector<double> d(n);
+    ResizeHuge(this->LVal, this->LCol.size());
+    ResizeHuge(this->InvC, static_cast<std::size_t>(n));
+    std::vector<double> d;
+    AssignHuge(d, static_cast<std::size_t>(n), 0.0);
     // LVal first holds L D L^T's unit-diagonal L (in float, as the
     // recurrences read it), then C's values.
     std::vector<float>& lij = this->LVal;
@@ -484,12 +486,12 @@ public:
     {
       if (w->size() < len)
       {
-        w->resize(len);
+        ResizeHuge(*w, len);
       }
     }
     if (x.size() < len)
     {
-      x.resize(len);
+      ResizeHuge(x, len);
     }
     for (int c = 0; c < nc; ++c)
     {

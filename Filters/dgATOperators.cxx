@@ -1,5 +1,7 @@
 #include "dgATOperators.h"
 
+#include "dgHugePages.h"
+
 #include <vtkSMPTools.h>
 
 #include <algorithm>
@@ -43,8 +45,8 @@ std::int64_t PrefixSum(std::vector<T>& a)
 void StartPattern(ATPattern& m, std::int64_t n, const std::vector<int>& ptr)
 {
   m.N = n;
-  m.Outer.assign(ptr.begin(), ptr.begin() + n + 1);
-  m.Inner.assign(static_cast<std::size_t>(ptr[n]), 0);
+  AssignHuge(m.Outer, ptr.begin(), ptr.begin() + n + 1);
+  AssignHuge(m.Inner, static_cast<std::size_t>(ptr[n]), 0);
 }
 } // namespace
 
@@ -75,7 +77,7 @@ bool ATComplex::Build(std::int64_t numberOfVertices, const std::vector<std::int6
   // 1. Sides bucketed by their lower vertex. The fill is sequential (cheap),
   // the per-bucket sort makes the order independent of how it was filled.
   std::vector<int> bucket;
-  bucket.assign(static_cast<std::size_t>(nv), 0);
+  AssignHuge(bucket, static_cast<std::size_t>(nv), 0, nv + 1);
   for (std::int64_t f = 0; f < nFaces; ++f)
   {
     const std::int64_t b = offsets[f], e = offsets[f + 1];
@@ -101,9 +103,10 @@ bool ATComplex::Build(std::int64_t numberOfVertices, const std::vector<std::int6
   }
   const std::int64_t nSides = PrefixSum(bucket);
   std::vector<Side> sides;
-  sides.assign(static_cast<std::size_t>(nSides), Side{});
+  AssignHuge(sides, static_cast<std::size_t>(nSides), Side{});
   {
-    std::vector<int> fill(bucket.begin(), bucket.end() - 1);
+    std::vector<int> fill;
+    AssignHuge(fill, bucket.begin(), bucket.end() - 1);
     for (std::int64_t f = 0; f < nFaces; ++f)
     {
       const std::int64_t b = offsets[f], e = offsets[f + 1];
@@ -122,7 +125,9 @@ bool ATComplex::Build(std::int64_t numberOfVertices, const std::vector<std::int6
 
   // 2. Unique edges per bucket and unique (edge, face) incidences; a face
   // that runs twice along the same edge gets the sum of its signs.
-  std::vector<int> edgeCount(nv), incidenceCount(nv);
+  std::vector<int> edgeCount, incidenceCount;
+  AssignHuge(edgeCount, static_cast<std::size_t>(nv), 0, nv + 1);
+  AssignHuge(incidenceCount, static_cast<std::size_t>(nv), 0, nv + 1);
   vtkSMPTools::For(0, nv, [&](std::int64_t vb, std::int64_t ve) {
     for (std::int64_t v = vb; v < ve; ++v)
     {
@@ -144,10 +149,11 @@ bool ATComplex::Build(std::int64_t numberOfVertices, const std::vector<std::int6
   {
     return fail("the complex is too large (more than 2^30 edges)");
   }
-  this->EdgeVertices.assign(static_cast<std::size_t>(2 * nEdges), 0);
-  this->EdgeFacePtr.assign(static_cast<std::size_t>(nEdges + 1), 0);
-  this->EdgeFaces.assign(static_cast<std::size_t>(nIncidences), 0);
-  this->EdgeFaceSigns.assign(static_cast<std::size_t>(nIncidences), static_cast<signed char>(0));
+  AssignHuge(this->EdgeVertices, static_cast<std::size_t>(2 * nEdges), 0);
+  AssignHuge(this->EdgeFacePtr, static_cast<std::size_t>(nEdges + 1), 0);
+  AssignHuge(this->EdgeFaces, static_cast<std::size_t>(nIncidences), 0);
+  AssignHuge(
+    this->EdgeFaceSigns, static_cast<std::size_t>(nIncidences), static_cast<signed char>(0));
   vtkSMPTools::For(0, nv, [&](std::int64_t vb, std::int64_t ve) {
     for (std::int64_t v = vb; v < ve; ++v)
     {
@@ -179,7 +185,7 @@ bool ATComplex::Build(std::int64_t numberOfVertices, const std::vector<std::int6
   // 3. Vertex -> edges (filled in edge order, so ascending). A vertex's
   // edges as the lower end are the contiguous run edgeCount[v]...: only
   // the edges it ends are scattered.
-  this->VertexEdgePtr.assign(static_cast<std::size_t>(nv), 0);
+  AssignHuge(this->VertexEdgePtr, static_cast<std::size_t>(nv), 0, nv + 1);
   for (std::int64_t e = 0; e < nEdges; ++e)
   {
     ++this->VertexEdgePtr[this->EdgeVertices[2 * e + 1]];
@@ -189,11 +195,12 @@ bool ATComplex::Build(std::int64_t numberOfVertices, const std::vector<std::int6
     this->VertexEdgePtr[v] += edgeCount[v + 1] - edgeCount[v];
   }
   PrefixSum(this->VertexEdgePtr);
-  this->VertexEdges.assign(static_cast<std::size_t>(2 * nEdges), 0);
+  AssignHuge(this->VertexEdges, static_cast<std::size_t>(2 * nEdges), 0);
   {
     // Edges ending at v come first (their lower ends are below v), in edge
     // order; then v's own run.
-    std::vector<int> fill(this->VertexEdgePtr.begin(), this->VertexEdgePtr.end() - 1);
+    std::vector<int> fill;
+    AssignHuge(fill, this->VertexEdgePtr.begin(), this->VertexEdgePtr.end() - 1);
     for (std::int64_t e = 0; e < nEdges; ++e)
     {
       this->VertexEdges[fill[this->EdgeVertices[2 * e + 1]]++] = static_cast<int>(e);
@@ -221,15 +228,16 @@ void ATComplex::BuildSystemPatterns()
   const std::int64_t ne = this->NumberOfEdges();
 
   // Face -> edges, from the edge -> face incidences (ascending edges).
-  this->FaceEdgePtr.assign(static_cast<std::size_t>(nf), 0);
+  AssignHuge(this->FaceEdgePtr, static_cast<std::size_t>(nf), 0, nf + 1);
   for (int i = 0; i < this->EdgeFacePtr[ne]; ++i)
   {
     ++this->FaceEdgePtr[this->EdgeFaces[i]];
   }
   PrefixSum(this->FaceEdgePtr);
-  this->FaceEdges.assign(static_cast<std::size_t>(this->FaceEdgePtr[nf]), 0);
+  AssignHuge(this->FaceEdges, static_cast<std::size_t>(this->FaceEdgePtr[nf]), 0);
   {
-    std::vector<int> fill(this->FaceEdgePtr.begin(), this->FaceEdgePtr.end() - 1);
+    std::vector<int> fill;
+    AssignHuge(fill, this->FaceEdgePtr.begin(), this->FaceEdgePtr.end() - 1);
     for (std::int64_t e = 0; e < ne; ++e)
     {
       for (int i = this->EdgeFacePtr[e]; i < this->EdgeFacePtr[e + 1]; ++i)
@@ -258,7 +266,8 @@ void ATComplex::BuildSystemPatterns()
     std::sort(columns.begin(), columns.end());
     columns.erase(std::unique(columns.begin(), columns.end()), columns.end());
   };
-  std::vector<int> rowPtr(nf);
+  std::vector<int> rowPtr;
+  AssignHuge(rowPtr, static_cast<std::size_t>(nf), 0, nf + 1);
   vtkSMPTools::For(0, nf, [&](std::int64_t fb, std::int64_t fe) {
     std::vector<int> columns;
     for (std::int64_t f = fb; f < fe; ++f)
@@ -279,7 +288,7 @@ void ATComplex::BuildSystemPatterns()
     }
   });
   std::vector<int>().swap(rowPtr);
-  this->FaceEdgeCode.assign(this->FaceEdges.size(), FaceEdgeGeneral);
+  AssignHuge(this->FaceEdgeCode, this->FaceEdges.size(), FaceEdgeGeneral);
   vtkSMPTools::For(0, nf, [&](std::int64_t fb, std::int64_t fe) {
     for (std::int64_t f = fb; f < fe; ++f)
     {
@@ -308,7 +317,8 @@ void ATComplex::BuildSystemPatterns()
 
   // v-system: the vertex graph plus the diagonal. A vertex's edges give its
   // neighbours ascending (see the header): no sort.
-  std::vector<int> vPtr(nv);
+  std::vector<int> vPtr;
+  AssignHuge(vPtr, static_cast<std::size_t>(nv), 0, nv + 1);
   for (std::int64_t v = 0; v < nv; ++v)
   {
     vPtr[v] = this->VertexEdgePtr[v + 1] - this->VertexEdgePtr[v] + 1;

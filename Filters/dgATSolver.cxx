@@ -1,5 +1,7 @@
 #include "dgATSolver.h"
 
+#include "dgHugePages.h"
+
 #include "dgATBlocks.h"
 #include "dgATLinearSystems.h"
 
@@ -129,7 +131,9 @@ void ATSolver::Initialize(Eigen::MatrixXd&& field)
 // bitwise what they were from g, and Energy recovers g from them.
 void ATSolver::InitializeFromU()
 {
-  this->URhs = this->Params.Alpha * this->u;
+  this->URhs.resize(this->u.rows(), this->u.cols()); // not touched yet: advised first
+  AdviseHugePages(this->URhs.data(), static_cast<std::size_t>(this->URhs.size()) * sizeof(double));
+  this->URhs.noalias() = this->Params.Alpha * this->u;
   if (this->Metric)
   {
     const Eigen::Map<const Eigen::VectorXd> area(this->Metric->FaceArea.data(), this->u.rows());
@@ -139,6 +143,7 @@ void ATSolver::InitializeFromU()
   if (this->v.size() != nv)
   {
     this->v.resize(nv);
+    AdviseHugePages(this->v.data(), static_cast<std::size_t>(nv) * sizeof(double));
   }
   this->v.setOnes();
   this->VRhs.resize(0, 0);
@@ -151,7 +156,7 @@ double* ATSolver::SystemValues()
     static_cast<std::size_t>(std::max(this->UP.NonZeros(), this->VP.NonZeros()));
   if (this->Values.size() != n)
   {
-    this->Values.assign(n, 0.0);
+    AssignHuge(this->Values, n, 0.0);
   }
   return this->Values.data();
 }
@@ -180,7 +185,7 @@ void ATSolver::AssembleU()
   const std::int64_t ne = K.NumberOfEdges(), nf = K.NumberOfFaces();
   // w(e) = ((M v)_e)^2, the weight of edge e in B^T diag(Mv)^2 B.
   std::vector<double>& w = this->EdgeWork;
-  w.resize(static_cast<std::size_t>(ne));
+  ResizeHuge(w, static_cast<std::size_t>(ne));
   const double* ratio = this->Metric ? this->Metric->EdgeRatio.data() : nullptr;
   const double* faceArea = this->Metric ? this->Metric->FaceArea.data() : nullptr;
   ForBlocks(ne,
@@ -263,7 +268,7 @@ void ATSolver::AssembleV(double epsilon)
   const int nc = static_cast<int>(this->u.cols());
   // q(e) = sum_i ((B u_i)_e)^2: the squared jump of u across edge e.
   std::vector<double>& q = this->EdgeWork;
-  q.resize(static_cast<std::size_t>(ne));
+  ResizeHuge(q, static_cast<std::size_t>(ne));
   const double* ratio = this->Metric ? this->Metric->EdgeRatio.data() : nullptr;
   const double* vertexArea = this->Metric ? this->Metric->VertexArea.data() : nullptr;
   ForBlocks(ne,
@@ -422,6 +427,7 @@ bool ATSolver::StepV(double epsilon)
   if (this->VRhs.rows() != this->v.size() || this->VRhs.size() == 0 || this->VRhsEpsilon != epsilon)
   {
     this->VRhs.resize(this->v.size(), 1);
+    AdviseHugePages(this->VRhs.data(), static_cast<std::size_t>(this->VRhs.size()) * sizeof(double));
     this->VRhs.setConstant(rhs);
     if (this->Metric)
     {
@@ -430,7 +436,11 @@ bool ATSolver::StepV(double epsilon)
     }
     this->VRhsEpsilon = epsilon;
   }
-  this->VX.resize(this->v.size(), 1);
+  if (this->VX.rows() != this->v.size() || this->VX.cols() != 1)
+  {
+    this->VX.resize(this->v.size(), 1);
+    AdviseHugePages(this->VX.data(), static_cast<std::size_t>(this->VX.size()) * sizeof(double));
+  }
   this->VX.col(0) = this->v;
   const bool ok = this->SolveSystem(
     *this->VSystem, this->VP.View(this->Values.data()), this->VRhs, this->VX, "v-step");

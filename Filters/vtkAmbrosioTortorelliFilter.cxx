@@ -3,6 +3,7 @@
 #include "dgATMetric.h"
 #include "dgATOperators.h"
 #include "dgATSolver.h"
+#include "dgHugePages.h"
 #include "dgPieces.h"
 #include "dgPipelineAbort.h"
 
@@ -303,6 +304,7 @@ int vtkAmbrosioTortorelliFilter::RequestData(vtkInformation*,
   const char* fieldName = field->GetName() ? field->GetName() : "(unnamed)";
 
   Eigen::MatrixXd g(nFaces, nc);
+  dg::AdviseHugePages(g.data(), static_cast<std::size_t>(g.size()) * sizeof(double)); // before first touch
   std::atomic<vtkIdType> badValue(-1), zeroVector(-1), notUnit(-1);
   {
     const auto tuples = vtk::DataArrayTupleRange(field);
@@ -507,8 +509,8 @@ int vtkAmbrosioTortorelliFilter::Internals::Solve(vtkAmbrosioTortorelliFilter* s
 
   // Plain buffers for the core.
   std::vector<std::int64_t> offsets, connectivity;
-  offsets.assign(static_cast<std::size_t>(nFaces + 1), 0);
-  connectivity.assign(static_cast<std::size_t>(polys->GetNumberOfConnectivityIds()), 0);
+  dg::AssignHuge(offsets, static_cast<std::size_t>(nFaces + 1), std::int64_t(0));
+  dg::AssignHuge(connectivity, static_cast<std::size_t>(polys->GetNumberOfConnectivityIds()), std::int64_t(0));
   {
     const auto off = vtk::DataArrayValueRange<1>(polys->GetOffsetsArray());
     const auto conn = vtk::DataArrayValueRange<1>(polys->GetConnectivityArray());

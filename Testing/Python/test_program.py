@@ -27,10 +27,11 @@ def check(cond, what):
         failures.append(what)
 
 
-def run(*args, out=None):
+def run(*args, out=None, env=None):
     out = out or tempfile.mkdtemp(dir=ROOT)
     p = subprocess.run([PROGRAM, "--quiet", "--output-dir", out] + list(args),
-                       capture_output=True, text=True, timeout=600)
+                       capture_output=True, text=True, timeout=600,
+                       env=None if env is None else dict(os.environ, **env))
     return p, out
 
 
@@ -283,6 +284,31 @@ check(p2.returncode == 0 and plain_active is not None and plain_active.GetName()
 check(0 < default_lines.GetNumberOfLines() < plain_lines.GetNumberOfLines() / 2,
       "one line per edge: %d feature lines against AT's %d"
       % (default_lines.GetNumberOfLines(), plain_lines.GetNumberOfLines()))
+
+# The program runs itself again with glibc's huge-page malloc (an exec at
+# start-up, dgProgramSupport.h): that must change nothing in the results,
+# and DG_HUGEPAGES=0 must be honoured (the summary says which).
+def cell_arrays_equal(a, b):
+    ca, cb = a.GetCellData(), b.GetCellData()
+    if ca.GetNumberOfArrays() != cb.GetNumberOfArrays() or a.GetNumberOfCells() != b.GetNumberOfCells():
+        return False
+    for i in range(ca.GetNumberOfArrays()):
+        x, y = ca.GetArray(i), cb.GetArray(ca.GetArray(i).GetName())
+        if y is None or x.GetNumberOfValues() != y.GetNumberOfValues():
+            return False
+        if any(x.GetValue(k) != y.GetValue(k) for k in range(x.GetNumberOfValues())):
+            return False
+    return True
+
+
+p3, out3 = run("--size", "48", "--no-png", env={"DG_HUGEPAGES": "0", "GLIBC_TUNABLES": ""})
+p4, out4 = run("--size", "48", "--no-png", env={"GLIBC_TUNABLES": ""})
+check(p3.returncode == 0 and p4.returncode == 0
+      and cell_arrays_equal(default_surface, read_vtp(out3, "builtin_surface.vtp"))
+      and cell_arrays_equal(default_surface, read_vtp(out4, "builtin_surface.vtp")),
+      "huge-page malloc on (default) and off (DG_HUGEPAGES=0): the same output, bit for bit")
+check("huge-page malloc" in p4.stdout and "huge-page malloc" not in p3.stdout,
+      "the summary says when the huge-page malloc is on: %r" % p4.stdout[-200:])
 
 for what, args, status in bad_cases:
     p, out = run(*args)
