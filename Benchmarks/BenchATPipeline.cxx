@@ -55,6 +55,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <ctime>
 #include <fstream>
 #include <memory>
@@ -408,6 +409,16 @@ int main(int argc, char* argv[])
     CpuModel().c_str());
   std::printf("VTK_SMP_BACKEND_IN_USE=%s, vtkSMPTools backend %s, %d threads\n",
     env ? env : "(unset)", vtkSMPTools::GetBackend(), vtkSMPTools::GetEstimatedNumberOfThreads());
+  {
+    // The program runs with glibc's huge-page malloc (dgProgramSupport.h);
+    // a library host runs with what it was started with.
+    const char* tunables = std::getenv("GLIBC_TUNABLES");
+    std::printf("malloc: %s (GLIBC_TUNABLES=%s)\n",
+      tunables && std::strstr(tunables, "glibc.malloc.hugetlb=1")
+        ? "glibc huge pages, as the program runs"
+        : "default 4 KiB pages (large AT arrays advised for huge pages), as a library host runs",
+      tunables ? tunables : "(unset)");
+  }
   {
     const std::time_t now = std::time(nullptr);
     char when[64];
