@@ -1,6 +1,8 @@
 #include "dgHugePages.h"
 
 #include <cstdint>
+#include <cstdlib>
+#include <cstring>
 
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -12,7 +14,13 @@ namespace dg
 void AdviseHugePages(void* p, std::size_t bytes)
 {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-  if (!p || bytes < HugePagesMinimumBytes)
+  // DG_HUGEPAGES=0 turns the advice off (as it turns off the program's
+  // huge-page malloc), for comparisons and for hosts that want none.
+  static const bool off = [] {
+    const char* e = std::getenv("DG_HUGEPAGES");
+    return e && std::strcmp(e, "0") == 0;
+  }();
+  if (!p || bytes < HugePagesMinimumBytes || off)
   {
     return;
   }

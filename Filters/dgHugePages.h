@@ -12,7 +12,8 @@
 // start-up, which a library cannot set for its host (ParaView, Python);
 // advising our own large arrays can (docs/at-speed.md has the figures).
 //
-// Elsewhere (no MADV_HUGEPAGE, or THP "never") the calls do nothing.
+// Elsewhere (no MADV_HUGEPAGE, or THP "never") the calls do nothing, and
+// DG_HUGEPAGES=0 in the environment turns them off.
 #ifndef dgHugePages_h
 #define dgHugePages_h
 
