@@ -144,8 +144,8 @@ with one process).
 Memory pages: the program runs itself again at start-up with glibc's
 huge-page malloc (GLIBC_TUNABLES=glibc.malloc.hugetlb=1; 2 MiB pages, far
 fewer page faults: on a 512^3 volume the whole run took 6.9 s instead of
-8.6 s), with the same results; DG_HUGEPAGES=0 in the environment turns that
-and the module's own huge-page advice off.
+8.6 s), with the same results; not under mpirun. DG_HUGEPAGES=0 in the
+environment turns that and the module's own huge-page advice off.
 )";
 }
 

@@ -104,6 +104,17 @@ void ReexecWithHugePages(char* argv[])
   {
     return;
   }
+  // Not under an MPI launcher: it set the process up (pipes, PMIx
+  // environment) around the program it started, and a full test run once
+  // failed a 2-rank run we could not reproduce; an exec there is not worth
+  // the doubt. The ranks run with the module's own huge-page advice only.
+  for (const char* launcher : { "OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE" })
+  {
+    if (std::getenv(launcher))
+    {
+      return;
+    }
+  }
   std::string value = "glibc.malloc.hugetlb=1";
   if (tunables && *tunables)
   {

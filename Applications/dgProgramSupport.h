@@ -171,7 +171,8 @@ double PeakMemoryMiB();
 /// Runs the program again in place (exec: same process id, arguments and
 /// environment) with glibc's transparent-huge-page malloc switched on
 /// (GLIBC_TUNABLES glibc.malloc.hugetlb=1), unless it already is or
-/// DG_HUGEPAGES=0. glibc reads that switch only at start-up. On octa-flower
+/// DG_HUGEPAGES=0, or under an MPI launcher (mpirun). glibc reads that
+/// switch only at start-up. On octa-flower
 /// 512^3 it took the whole program from 8.9 to 6.6 s (read, surface and II
 /// 2-3x faster, AT 5.6 -> 5.0 s), the results bit for bit the same; the
 /// exec costs about 0.05 s (docs/at-speed.md). Returns only when it does
