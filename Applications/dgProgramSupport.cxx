@@ -132,3 +132,29 @@ void ReexecWithHugePages(char* argv[])
 }
 
 } // namespace dgapp
+
+// Last in the file: Xlib's macros (None, Bool, Status, ...) must not reach
+// the VTK headers above.
+#include <vtkRenderingOpenGLConfigure.h> // VTK_USE_X
+#if defined(DG_HAVE_X11) && defined(VTK_USE_X)
+#include <X11/Xlib.h>
+#endif
+
+std::string dgapp::PictureUnavailable()
+{
+#if defined(DG_HAVE_X11) && defined(VTK_USE_X)
+  const char* display = std::getenv("DISPLAY");
+  if (!display || !*display)
+  {
+    return "no X display for the picture (DISPLAY is not set): run under xvfb-run, or pass --no-png";
+  }
+  ::Display* x = XOpenDisplay(nullptr);
+  if (!x)
+  {
+    return std::string("cannot open the X display '") + display +
+      "' for the picture: run under xvfb-run, or pass --no-png";
+  }
+  XCloseDisplay(x);
+#endif
+  return std::string();
+}

@@ -181,6 +181,12 @@ void ReexecWithHugePages(char* argv[]);
 /// True when glibc's huge-page malloc is on in this process.
 bool HugePageMalloc();
 
+/// Empty when the picture can be rendered here, else a one-line reason.
+/// VTK's X render window aborts the process when it cannot open its display
+/// (no DISPLAY on a server, or a dead one), so the program asks first,
+/// before any work, and fails with this message instead.
+std::string PictureUnavailable();
+
 /// Prints "piecewise-normals: message" and returns the exit status 1.
 int Fail(const std::string& message);
 

@@ -90,6 +90,12 @@ int RunPieces(Options opt, dg::Processes& procs)
   }
   opt.P.Sharpen = false;
   opt.P.SecondPass = false;
+  // Only rank 0 renders; it asks for its display before any work.
+  {
+    const std::string why = root && opt.Png ? PictureUnavailable() : std::string();
+    if (!agreeOrFail(why.empty(), why))
+      return 1;
+  }
 
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();

@@ -63,6 +63,12 @@ int main(int argc, char* argv[])
   {
     return RunPieces(opt, procs);
   }
+  if (opt.Png)
+  {
+    const std::string why = PictureUnavailable();
+    if (!why.empty())
+      return Fail(why);
+  }
   using Clock = std::chrono::steady_clock;
   std::vector<std::pair<std::string, double>> times;
   auto t = Clock::now();

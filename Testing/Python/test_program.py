@@ -310,6 +310,20 @@ check(p3.returncode == 0 and p4.returncode == 0
 check("huge-page malloc" in p4.stdout and "huge-page malloc" not in p3.stdout,
       "the summary says when the huge-page malloc is on: %r" % p4.stdout[-200:])
 
+# No display for the picture: VTK's X window would abort the process; the
+# program asks first and fails with one line, before any work (nothing is
+# left in the output folder). --no-png needs no display.
+for display, what in (("", "DISPLAY not set"), (":-1", "a display that cannot be opened")):
+    p, out = run("--size", "32", env={"DISPLAY": display})
+    lines = [l for l in p.stderr.strip().splitlines() if l.strip()]
+    check(p.returncode == 1 and len(lines) == 1 and "--no-png" in lines[0] and "display" in lines[0]
+          and not os.listdir(out),
+          "picture without a display (%s): exit %d, %r, files left %s"
+          % (what, p.returncode, lines[-1] if lines else "", os.listdir(out)))
+p, out = run("--size", "32", "--no-png", env={"DISPLAY": ""})
+check(p.returncode == 0 and sorted(os.listdir(out)) == ["builtin_features.vtp", "builtin_surface.vtp"],
+      "--no-png runs without a display: %s" % sorted(os.listdir(out)))
+
 for what, args, status in bad_cases:
     p, out = run(*args)
     lines = [l for l in p.stderr.strip().splitlines() if l.strip()]
