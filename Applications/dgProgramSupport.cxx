@@ -1,5 +1,7 @@
 #include "dgProgramSupport.h"
 
+#include "dgHugePages.h"
+
 #include <vtkPolyData.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkXMLWriter.h>
@@ -98,9 +100,8 @@ bool HugePageMalloc()
 void ReexecWithHugePages(char* argv[])
 {
 #if defined(__linux__)
-  const char* opt = std::getenv("DG_HUGEPAGES");
   const char* tunables = std::getenv("GLIBC_TUNABLES");
-  if ((opt && std::strcmp(opt, "0") == 0) || (tunables && std::strstr(tunables, "glibc.malloc.hugetlb")))
+  if (dg::HugePagesDisabled() || (tunables && std::strstr(tunables, "glibc.malloc.hugetlb")))
   {
     return;
   }

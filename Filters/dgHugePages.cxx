@@ -11,16 +11,20 @@
 namespace dg
 {
 
-void AdviseHugePages(void* p, std::size_t bytes)
+bool HugePagesDisabled()
 {
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-  // DG_HUGEPAGES=0 turns the advice off (as it turns off the program's
-  // huge-page malloc), for comparisons and for hosts that want none.
+  // For comparisons, and for hosts that want no huge pages.
   static const bool off = [] {
     const char* e = std::getenv("DG_HUGEPAGES");
     return e && std::strcmp(e, "0") == 0;
   }();
-  if (!p || bytes < HugePagesMinimumBytes || off)
+  return off;
+}
+
+void AdviseHugePages(void* p, std::size_t bytes)
+{
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  if (!p || bytes < HugePagesMinimumBytes || HugePagesDisabled())
   {
     return;
   }

@@ -27,6 +27,10 @@ namespace dg
 /// 2 MiB pages inside the range).
 constexpr std::size_t HugePagesMinimumBytes = std::size_t(4) << 20;
 
+/// True when DG_HUGEPAGES=0 is in the environment: no advice here, and no
+/// huge-page malloc in the program (read once).
+bool HugePagesDisabled();
+
 /// Advises [p, p + bytes) for transparent huge pages; call before the range
 /// is first written. Ranges below HugePagesMinimumBytes are left alone.
 void AdviseHugePages(void* p, std::size_t bytes);
