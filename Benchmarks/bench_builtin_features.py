@@ -12,7 +12,7 @@ sphere leaves the cube's faces) and the hole's rims, which the ground-truth
 shapes of the tests do not have. For each noise level and seed the program
 (build/bin/piecewise-normals --no-png, its defaults) writes its surface with
 AT's arrays; the sharp-features filter then runs on that surface with each
-setting compared (QuadricSides off and on), and the lines are scored like
+setting compared (QuadricSides off and on, QuadricMergeFactor 0 and 1.5), and the lines are scored like
 Testing/Cxx/dgFeatureMetrics.h scores them: precision = share of the
 feature edges whose midpoint lies within 1.5 voxels of a true edge, recall =
 share of the true edges (sampled every 0.15 voxel on the surface) with a
@@ -134,8 +134,9 @@ def main():
     edge_loc = locator(edges)
     print(f"built-in shape {N}^3: {len(edges)} true-edge samples; P / R per setting")
     env = dict(os.environ, VTK_SMP_BACKEND_IN_USE=os.environ.get("VTK_SMP_BACKEND_IN_USE", "STDThread"))
-    settings = (("QuadricSides off", 0), ("QuadricSides on", 1))
-    sums = {name: [0.0, 0.0, 0] for name, _ in settings}
+    settings = (("QuadricSides off", 0, 0.0), ("QuadricSides on", 1, 0.0),
+                ("QuadricSides, QuadricMergeFactor 1.5", 1, 1.5))
+    sums = {name: [0.0, 0.0, 0] for name, _, _ in settings}
     with tempfile.TemporaryDirectory() as tmp:
         for k in (float(s) for s in a.noise.split(",")):
             for seed in ([1] if k == 0 else [int(s) for s in a.seeds.split(",")]):
@@ -150,10 +151,11 @@ def main():
                 reader.SetFileName(os.path.join(out, "builtin_surface.vtp"))
                 reader.Update()
                 row = []
-                for name, q in settings:
+                for name, q, qm in settings:
                     f = dg.vtkSharpFeaturesFilter()
                     f.SetInputData(reader.GetOutput())
                     f.SetQuadricSides(q)
+                    f.SetQuadricMergeFactor(qm)
                     f.Update()
                     p, rc, n = score(edges, edge_loc, f.GetOutput(1))
                     row.append(f"{name}: P {p:.3f} R {rc:.3f} ({n} edges)")

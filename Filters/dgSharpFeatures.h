@@ -31,6 +31,10 @@
 //    bands inside a smooth part give no line. Weakest boundaries first, and
 //    no chain of merges joins two regions whose own boundary jumps by
 //    StrongFeatureAngle or more.
+//    Then a boundary whose jump lies between the two angles merges when
+//    everything already merged with its smaller side lies on the larger
+//    side's whole-region quadric (QuadricMergeFactor): under noise AT
+//    flattens patches of a curved surface into facets.
 // 5. Features: the edges between faces of two different (merged) regions.
 //    The line runs where the two sides' faces meet: one staircase line.
 //
@@ -67,6 +71,8 @@ struct SharpFeatureParameters
   double RegionEdgeAngle = 10.0; // degrees; a region does not grow across a larger jump
   double PlanarRegionAngle = 6.0; // degrees; regions whose normals turn less are planes (0: none)
   bool QuadricSides = true;       // large curved regions decide with their whole-region quadric
+  double QuadricMergeFactor = 1.5; // a medium boundary merges when the smaller side lies on the
+                                   // larger's quadric within this factor of its own RMS (0: never)
 };
 
 struct SharpFeatureResult
@@ -83,6 +89,7 @@ struct SharpFeatureResult
   int NumberOfPlanarRegions = 0;            // regions whose whole plane decides their sides
   int NumberOfQuadricRegions = 0;           // regions whose whole quadric may decide their sides
   int NumberOfRefusedMerges = 0;            // weak boundaries left as lines: a strong one lies between
+  int NumberOfQuadricMerges = 0;            // medium boundaries merged: one side on the other's quadric
 };
 
 /// points: 3 per point; normals: 3 per face (need not be unit; zero vectors

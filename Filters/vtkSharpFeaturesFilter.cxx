@@ -77,6 +77,7 @@ int vtkSharpFeaturesFilter::RequestData(
   this->NumberOfRegions = 0;
   this->NumberOfPlanarRegions = 0;
   this->NumberOfQuadricRegions = 0;
+  this->NumberOfQuadricMerges = 0;
   if (!input || !output || !lines)
   {
     vtkErrorMacro("Missing input or output.");
@@ -102,6 +103,7 @@ int vtkSharpFeaturesFilter::RequestData(
   par.StrongFeatureAngle = this->StrongFeatureAngle;
   par.PlanarRegionAngle = this->PlanarRegionAngle;
   par.QuadricSides = this->QuadricSides;
+  par.QuadricMergeFactor = this->QuadricMergeFactor;
   par.RegionEdgeAngle = this->RegionEdgeAngle;
   std::string problem;
   if (!(par.FeatureThreshold > 0 && par.FeatureThreshold < 1))
@@ -120,6 +122,8 @@ int vtkSharpFeaturesFilter::RequestData(
     problem += " StrongFeatureAngle must be in [0, 180].";
   if (!(par.PlanarRegionAngle >= 0 && par.PlanarRegionAngle <= 90))
     problem += " PlanarRegionAngle must be in [0, 90].";
+  if (!(par.QuadricMergeFactor >= 0))
+    problem += " QuadricMergeFactor must be >= 0.";
   if (!(par.FitResidual >= 0))
     problem += " FitResidual must be >= 0.";
   if (!(par.ReferenceWeight > 0 && par.ReferenceWeight <= 1))
@@ -242,6 +246,7 @@ int vtkSharpFeaturesFilter::RequestData(
   this->NumberOfRegions = res.NumberOfRegions;
   this->NumberOfPlanarRegions = res.NumberOfPlanarRegions;
   this->NumberOfQuadricRegions = res.NumberOfQuadricRegions;
+  this->NumberOfQuadricMerges = res.NumberOfQuadricMerges;
 
   output->ShallowCopy(input);
   vtkNew<vtkDoubleArray> sharp;
@@ -310,6 +315,8 @@ void vtkSharpFeaturesFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfPlanarRegions: " << this->NumberOfPlanarRegions << "\n";
   os << indent << "QuadricSides: " << (this->QuadricSides ? "On" : "Off") << "\n";
   os << indent << "NumberOfQuadricRegions: " << this->NumberOfQuadricRegions << "\n";
+  os << indent << "QuadricMergeFactor: " << this->QuadricMergeFactor << "\n";
+  os << indent << "NumberOfQuadricMerges: " << this->NumberOfQuadricMerges << "\n";
   os << indent << "RegionEdgeAngle: " << this->RegionEdgeAngle << "\n";
   os << indent << "NumberOfBandFaces: " << this->NumberOfBandFaces << "\n";
   os << indent << "NumberOfUnassignedFaces: " << this->NumberOfUnassignedFaces << "\n";

@@ -22,7 +22,9 @@
  *   normal;
  * - regions whose common boundary has a mean normal jump below
  *   MinimumFeatureAngle (degrees) are merged, weakest first, never joining
- *   the two sides of a boundary of StrongFeatureAngle or more;
+ *   the two sides of a boundary of StrongFeatureAngle or more; then those
+ *   below StrongFeatureAngle whose smaller side lies on the larger side's
+ *   quadric (QuadricMergeFactor);
  * - the feature lines are the edges between faces of different regions.
  *
  * Input: a vtkPolyData with polygons, a cell normal field (array 0 of
@@ -220,6 +222,26 @@ public:
 
   ///@{
   /**
+   * A boundary whose jump lies between MinimumFeatureAngle and
+   * StrongFeatureAngle merges all the same when everything already merged
+   * with its smaller side lies on the larger side's whole-region quadric
+   * (QuadricSides): the RMS distance of those faces to the quadric is at
+   * most this factor times the larger region's own (or a quarter edge
+   * length, if larger). Under noise AT flattens patches of a curved
+   * surface into facets whose normals jump at their rim; their faces
+   * still lie on the curved surface, where a true facet's do not (a cap
+   * cut off a sphere of radius 20 by 28 degrees lies 1.35 units off it).
+   * Default 1.5; 0 never merges on this ground.
+   */
+  vtkSetMacro(QuadricMergeFactor, double);
+  vtkGetMacro(QuadricMergeFactor, double);
+  ///@}
+
+  /// Medium boundaries merged on the quadric test in the last execution.
+  vtkGetMacro(NumberOfQuadricMerges, int);
+
+  ///@{
+  /**
    * A region does not grow across an edge whose two faces' normals differ
    * by more than this angle (degrees, > 0, default 10): where AT's band has a
    * gap, the normal still turns over a few faces, and the two sides stay
@@ -262,6 +284,8 @@ protected:
   int NumberOfPlanarRegions = 0;
   bool QuadricSides = true;
   int NumberOfQuadricRegions = 0;
+  double QuadricMergeFactor = 1.5;
+  int NumberOfQuadricMerges = 0;
   double RegionEdgeAngle = 10.0;
   vtkIdType NumberOfBandFaces = 0;
   vtkIdType NumberOfUnassignedFaces = 0;

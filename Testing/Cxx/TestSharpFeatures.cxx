@@ -160,6 +160,92 @@ TEST(SharpFeaturesCore, FalseBandOnAFlatSheetGivesNoLine)
   EXPECT_EQ(r.NumberOfMergedBoundaries, 1);
 }
 
+// A zone of a sphere (radius 20, latitudes 30-150 degrees, 3-degree quads)
+// where AT flattened a cap of 28 degrees' radius into a facet, as it does
+// under noise: the cap's normals are all its axis, v is low on a ring around
+// its rim. The cap's faces lie on the sphere: it merges across its jump (a
+// medium one, between MinimumFeatureAngle and StrongFeatureAngle) on the
+// quadric test (QuadricMergeFactor) and leaves no line; without the test,
+// its rim stays a closed loop. A true facet (the cap cut flat) keeps its
+// loop with the test.
+TEST(SharpFeaturesCore, FlattenedCapOnASphereMergesOnTheQuadric)
+{
+  const double radius = 20, step = 3 * M_PI / 180, cap = 28 * M_PI / 180;
+  const int rows = 40, columns = 120;
+  const V3 axis(1, 0, 0);
+  auto point = [&](int j, int i)
+  {
+    const double t = M_PI / 6 + j * step, p = (i % columns) * step;
+    return V3(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
+  };
+  // cut: the cap's points moved onto its plane, a true facet with a sharp
+  // rim (28 degrees), whose faces lie up to 2.3 units inside the sphere.
+  for (bool cut : { false, true })
+  {
+    std::vector<double> points, v;
+    for (int j = 0; j <= rows; ++j)
+      for (int i = 0; i < columns; ++i)
+      {
+        const V3 u = point(j, i);
+        V3 x = radius * u;
+        if (cut && u.dot(axis) > std::cos(cap))
+          x -= (x.dot(axis) - radius * std::cos(cap)) * axis;
+        points.insert(points.end(), { x.x(), x.y(), x.z() });
+        const double angle = std::acos(std::clamp(u.dot(axis), -1.0, 1.0));
+        v.push_back(std::abs(angle - cap) <= 3.5 * M_PI / 180 ? 0.05 : 1.0);
+      }
+    std::vector<std::int64_t> offsets{ 0 }, connectivity;
+    std::vector<double> g;
+    for (int j = 0; j < rows; ++j)
+      for (int i = 0; i < columns; ++i)
+      {
+        // (theta, phi) -> (theta + 1, phi) -> (theta + 1, phi + 1): outward.
+        const std::int64_t a = j * columns + i, b = (j + 1) * columns + i,
+                           c = (j + 1) * columns + (i + 1) % columns,
+                           d = j * columns + (i + 1) % columns;
+        connectivity.insert(connectivity.end(), { a, b, c, d });
+        offsets.push_back(static_cast<std::int64_t>(connectivity.size()));
+        const V3 n =
+          (point(j, i) + point(j + 1, i) + point(j + 1, i + 1) + point(j, i + 1)).normalized();
+        const V3 m = std::acos(std::clamp(n.dot(axis), -1.0, 1.0)) < cap ? axis : n;
+        g.insert(g.end(), { m.x(), m.y(), m.z() });
+      }
+    for (double factor : { 1.5, 0.0 })
+    {
+      dg::SharpFeatureParameters par;
+      par.QuadricMergeFactor = factor;
+      dg::SharpFeatureResult r;
+      std::string error;
+      ASSERT_TRUE(dg::ComputeSharpFeatures(static_cast<std::int64_t>(v.size()),
+        points.data(),
+        offsets,
+        connectivity,
+        g.data(),
+        v.data(),
+        par,
+        r,
+        &error))
+        << error;
+      EXPECT_GE(r.NumberOfQuadricRegions, 1) << factor;
+      if (factor > 0 && !cut)
+      {
+        EXPECT_EQ(r.NumberOfQuadricMerges, 1);
+        EXPECT_EQ(r.NumberOfRegions, 1);
+        EXPECT_EQ(r.FeatureEdges.size(), 0u);
+      }
+      else
+      {
+        EXPECT_EQ(r.NumberOfQuadricMerges, 0) << cut;
+        EXPECT_EQ(r.NumberOfRegions, 2) << cut;
+        // A closed loop around the cap: 2 pi R sin(28) / 1.05 ~ 56 edges for
+        // a smooth circle, a staircase on the quads up to 1.5 times that.
+        EXPECT_GE(r.FeatureEdges.size(), 50u) << cut;
+        EXPECT_LE(r.FeatureEdges.size(), 90u) << cut;
+      }
+    }
+  }
+}
+
 // The whole-region quadric (QuadricSides) against brute force: faces
 // sampled on a sphere and on a tilted cylinder with their exact normals.
 // Q / |grad Q| is the first-order distance: on a sphere of radius R it is
@@ -321,6 +407,7 @@ TEST(SharpFeaturesFilter, OutputsAndBadInput)
   expectFailure(pd, "MinimumRegionSize", [](vtkSharpFeaturesFilter* b) { b->SetMinimumRegionSize(0); });
   expectFailure(pd, "FeatureThreshold", [](vtkSharpFeaturesFilter* b) { b->SetFeatureThreshold(1.5); });
   expectFailure(pd, "StrongFeatureAngle", [](vtkSharpFeaturesFilter* b) { b->SetStrongFeatureAngle(200); });
+  expectFailure(pd, "QuadricMergeFactor", [](vtkSharpFeaturesFilter* b) { b->SetQuadricMergeFactor(-1); });
   auto nan = SheetPolyData(s, g, v);
   nan->GetCellData()->GetArray("ATNormals")->SetComponent(3, 0, NAN);
   expectFailure(nan, "NaN", none);
@@ -415,7 +502,7 @@ TEST_P(ProgramDefaults, FeaturesAndNormalsOnGroundTruth)
       noisy.Sharp.Describe().c_str(), name.c_str(), n, seed, noisy.Plain.Describe().c_str());
     const auto& m = noisy.Sharp;
     EXPECT_LE(m.Multiplicity, 2.5) << seed;
-    EXPECT_GE(m.Precision, cs ? 0.81 : 0.85) << seed; // cube-sphere measured 0.846-0.877
+    EXPECT_GE(m.Precision, 0.85) << seed; // cube-sphere measured 0.852-0.877
     EXPECT_GE(m.Recall, 0.95) << seed;
     EXPECT_LE(m.MeanError, 6.0) << seed;
     EXPECT_LE(m.Error3, 12.0) << seed;
