@@ -266,7 +266,7 @@ int main(int argc, char* argv[])
   std::vector<double> noise = { 0, 0.3 };
   std::vector<int> seeds = { 1 };
   double radius = 4, alpha = 0.05, lambda = 0.005, angle = 15, strongAngle = 30, planarAngle = 6,
-         quadricMerge = 1.5;
+         quadricMerge = 3;
   int depth = 5, minRegion = 30;
   double threshold = 0.5, edgeAngle = 10;
   int islands = 8, passes = 2, voteDepth = 2, fit = 1, curved = 1, quadric = 1;

@@ -12,7 +12,7 @@ sphere leaves the cube's faces) and the hole's rims, which the ground-truth
 shapes of the tests do not have. For each noise level and seed the program
 (build/bin/piecewise-normals --no-png, its defaults) writes its surface with
 AT's arrays; the sharp-features filter then runs on that surface with each
-setting compared (QuadricSides off and on, QuadricMergeFactor 0 and 1.5), and the lines are scored like
+setting compared (QuadricSides off and on, QuadricMergeFactor 0 and 3), and the lines are scored like
 Testing/Cxx/dgFeatureMetrics.h scores them: precision = share of the
 feature edges whose midpoint lies within 1.5 voxels of a true edge, recall =
 share of the true edges (sampled every 0.15 voxel on the surface) with a
@@ -135,7 +135,7 @@ def main():
     print(f"built-in shape {N}^3: {len(edges)} true-edge samples; P / R per setting")
     env = dict(os.environ, VTK_SMP_BACKEND_IN_USE=os.environ.get("VTK_SMP_BACKEND_IN_USE", "STDThread"))
     settings = (("QuadricSides off", 0, 0.0), ("QuadricSides on", 1, 0.0),
-                ("QuadricSides, QuadricMergeFactor 1.5", 1, 1.5))
+                ("QuadricSides, QuadricMergeFactor 3", 1, 3.0))
     sums = {name: [0.0, 0.0, 0] for name, _, _ in settings}
     with tempfile.TemporaryDirectory() as tmp:
         for k in (float(s) for s in a.noise.split(",")):

@@ -71,7 +71,7 @@ struct SharpFeatureParameters
   double RegionEdgeAngle = 10.0; // degrees; a region does not grow across a larger jump
   double PlanarRegionAngle = 6.0; // degrees; regions whose normals turn less are planes (0: none)
   bool QuadricSides = true;       // large curved regions decide with their whole-region quadric
-  double QuadricMergeFactor = 1.5; // a medium boundary merges when the smaller side lies on the
+  double QuadricMergeFactor = 3.0; // a medium boundary merges when the smaller side lies on the
                                    // larger's quadric within this factor of its own RMS (0: never)
 };
 

@@ -231,7 +231,10 @@ public:
    * surface into facets whose normals jump at their rim; their faces
    * still lie on the curved surface, where a true facet's do not (a cap
    * cut off a sphere of radius 20 by 28 degrees lies 1.35 units off it).
-   * Default 1.5; 0 never merges on this ground.
+   * Default 3; 0 never merges on this ground. The price: on a clean
+   * surface a true facet whose rim turns by about 20 degrees or less on a
+   * sphere of radius 20 voxels or less lies within 3 quarter edges of the
+   * sphere and merges too (under noise, on larger spheres as well).
    */
   vtkSetMacro(QuadricMergeFactor, double);
   vtkGetMacro(QuadricMergeFactor, double);
@@ -284,7 +287,7 @@ protected:
   int NumberOfPlanarRegions = 0;
   bool QuadricSides = true;
   int NumberOfQuadricRegions = 0;
-  double QuadricMergeFactor = 1.5;
+  double QuadricMergeFactor = 3.0;
   int NumberOfQuadricMerges = 0;
   double RegionEdgeAngle = 10.0;
   vtkIdType NumberOfBandFaces = 0;

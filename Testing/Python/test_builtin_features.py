@@ -4,8 +4,9 @@ hole) against the shape's analytic edges, which include the concave circles
 where the sphere leaves the cube's faces: every true edge has a line within
 1.5 voxels (recall; 0.999 measured, 0.90 when the stage's convexity test
 read a planar side's whole centroid), and most of the line length lies on a
-true edge (precision; 0.64 measured: the hole's 11.5-voxel wall is cut into
-strips, docs/quality.md's cylinder item); and with the paper's noise
+true edge (precision; 0.76 measured, 0.64 before the quadric merges: the
+hole's 11.5-voxel wall is cut into strips, docs/quality.md's cylinder
+item); and with the paper's noise
 (k = 0.3), no false loop on the sphere. The scoring is
 Benchmarks/bench_builtin_features.py's."""
 import importlib.util
@@ -47,7 +48,7 @@ lines.Update()
 p, rc, n = bench.score(edges, edge_loc, lines.GetOutput())
 print(f"program's lines: P {p:.3f} R {rc:.3f} ({n} edges, {len(edges)} true-edge samples)")
 check(rc >= 0.97, f"recall {rc:.3f} >= 0.97")
-check(p >= 0.55, f"precision {p:.3f} >= 0.55")
+check(p >= 0.70, f"precision {p:.3f} >= 0.70")
 # The filter run again on the program's surface gives the program's lines.
 f = vtkSharpFeaturesFilter()
 f.SetInputData(reader.GetOutput())
@@ -56,7 +57,7 @@ check(f.GetOutput(1).GetNumberOfCells() == n, f"the filter on the written surfac
 
 # The paper's noise (k = 0.3, seed 1): AT flattens a cap of the sphere into a
 # facet whose rim the stage drew as a closed loop until the quadric merges
-# (QuadricMergeFactor): measured P 0.716 without them, 0.825 with, R 0.993.
+# (QuadricMergeFactor): measured P 0.708 without them, 0.814 with, R 0.992.
 out = os.path.join(os.environ.get("DG_TEST_TMP", "."), "builtin-noisy")
 r = subprocess.run([os.environ["DG_PROGRAM"], "--no-png", "--noise", "0.3", "--seed", "1", "--output-dir", out],
                    stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
