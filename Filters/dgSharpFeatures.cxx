@@ -19,6 +19,7 @@
 
 namespace dg
 {
+
 using namespace sharp;
 namespace
 {
@@ -573,12 +574,27 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       const double other = std::sqrt(sum / static_cast<double>(std::max<std::int64_t>(1, count)));
       if (other > par.QuadricMergeFactor * std::max(own, 0.25 * meanEdge2))
         continue;
+      std::vector<int> merged; // the regions of A's side, before the union
+      for (int r = 0; r < regions; ++r)
+        if (uf.Find(r) == ra)
+          merged.push_back(r);
       if (!unite(ra, rb))
       {
         ++result.NumberOfRefusedMerges;
         continue;
       }
       ++result.NumberOfQuadricMerges;
+      // AT's normals on a flattened facet are the facet's; its faces take
+      // the normal of the surface they were found to lie on, where that
+      // turns them by less than a sure edge would (under heavy noise a
+      // merged piece may reach where the quadric no longer describes it).
+      for (int r : merged)
+        for (std::int64_t f : faces[r])
+        {
+          const Vec3 n = quadrics[c.B].Normal(centre[f]);
+          if (n.Norm() > 0 && AngleDegrees(n, out[f]) < strongAngle)
+            out[f] = n;
+        }
     }
   }
   // Renumber the merged regions in order of first appearance.

@@ -34,7 +34,8 @@
 //    Then a boundary whose jump lies between the two angles merges when
 //    everything already merged with its smaller side lies on the larger
 //    side's whole-region quadric (QuadricMergeFactor): under noise AT
-//    flattens patches of a curved surface into facets.
+//    flattens patches of a curved surface into facets. The merged side's
+//    faces take the quadric's normal (within StrongFeatureAngle of theirs).
 // 5. Features: the edges between faces of two different (merged) regions.
 //    The line runs where the two sides' faces meet: one staircase line.
 //

@@ -198,6 +198,14 @@ double RegionQuadric::Distance(const Vec3& x) const
   return n > 0 ? this->Scale * value.dot(this->Coefficients) / n : 0.0;
 }
 
+Vec3 RegionQuadric::Normal(const Vec3& x) const
+{
+  Vector10 value, dx, dy, dz;
+  QuadricRows((x - this->Centre) * (1.0 / this->Scale), value, dx, dy, dz);
+  return Vec3(dx.dot(this->Coefficients), dy.dot(this->Coefficients), dz.dot(this->Coefficients))
+    .Unit();
+}
+
 // Linear least squares in the ten coefficients of Q in the scaled
 // coordinates y = (x - c) / s: sum over the faces of (s Q(y_i) / unit)^2 +
 // |grad Q(y_i) - n_i|^2. The normals' term fixes the scale of Q (no

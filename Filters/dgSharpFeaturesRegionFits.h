@@ -85,6 +85,7 @@ struct RegionQuadric
   double Scale = 1;  // coordinates are (x - Centre) / Scale
   Eigen::Matrix<double, 10, 1> Coefficients = Eigen::Matrix<double, 10, 1>::Zero();
   double Distance(const Vec3& x) const;
+  Vec3 Normal(const Vec3& x) const; // grad Q / |grad Q| (zero where grad Q is)
 };
 
 // Quadrics for the regions with at least minimumSize faces, a face at least

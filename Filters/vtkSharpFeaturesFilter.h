@@ -231,6 +231,8 @@ public:
    * surface into facets whose normals jump at their rim; their faces
    * still lie on the curved surface, where a true facet's do not (a cap
    * cut off a sphere of radius 20 by 28 degrees lies 1.35 units off it).
+   * The merged side's faces take the quadric's normal, where it is within
+   * StrongFeatureAngle of theirs.
    * Default 3; 0 never merges on this ground. The price: on a clean
    * surface a true facet whose rim turns by about 20 degrees or less on a
    * sphere of radius 20 voxels or less lies within 3 quarter edges of the
