@@ -291,6 +291,17 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       {
         assigned[f0] = chosen->Region;
         out[f0] = par.FitPlanes ? chosen->PlaneNormal(maxResidual2) : chosenN;
+        // A side that decided with its quadric (above) gives the quadric's
+        // normal at the face: the local plane through curved samples a few
+        // faces away is tilted by their curvature.
+        const RegionQuadric& q = quadrics[chosen->Region];
+        if (q.Valid && !planes[chosen->Region].Planar &&
+          std::abs(chosen->QuadricDistanceSum / chosen->Count) <= meanEdge2)
+        {
+          const Vec3 n = q.Normal(centre[f0]);
+          if (n.Norm() > 0 && AngleDegrees(n, out[f0]) < par.StrongFeatureAngle)
+            out[f0] = n;
+        }
       }
     }
   });
