@@ -13,13 +13,12 @@
 #include <cmath>
 #include <limits>
 #include <map>
-#include <tuple>
 #include <numeric>
+#include <tuple>
 #include <utility>
 
 namespace dg
 {
-
 using namespace sharp;
 namespace
 {
