@@ -248,6 +248,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       const RegionSample* chosen = nullptr;
       Vec3 chosenN, chosenC;
       double chosenS = 0;
+      bool chosenByQuadric = false;
       for (const auto& r : s.Samples)
       {
         if (r.Count < support || (anyFacing && r.NormalSum.Dot(polyNormal[f0]) <= 0))
@@ -262,7 +263,9 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
         // length of the faces found here (their mean distance to it): a
         // surface that is no quadric is left to the local model.
         const RegionQuadric& q = quadrics[r.Region];
-        if (!flat && q.Valid && std::abs(r.QuadricDistanceSum / r.Count) <= meanEdge2)
+        const bool byQuadric =
+          !flat && q.Valid && std::abs(r.QuadricDistanceSum / r.Count) <= meanEdge2;
+        if (byQuadric)
           sd = q.Distance(centre[f0]);
         else if (par.CurvedSides && !flat)
           sd += r.Fall(n, Vec3());
@@ -284,6 +287,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
           chosenN = n;
           chosenC = local;
           chosenS = sd;
+          chosenByQuadric = byQuadric;
         }
       }
       if (chosen)
@@ -293,11 +297,9 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
         // A side that decided with its quadric (above) gives the quadric's
         // normal at the face: the local plane through curved samples a few
         // faces away is tilted by their curvature.
-        const RegionQuadric& q = quadrics[chosen->Region];
-        if (q.Valid && !planes[chosen->Region].Planar &&
-          std::abs(chosen->QuadricDistanceSum / chosen->Count) <= meanEdge2)
+        if (chosenByQuadric)
         {
-          const Vec3 n = q.Normal(centre[f0]);
+          const Vec3 n = quadrics[chosen->Region].Normal(centre[f0]);
           if (n.Norm() > 0 && AngleDegrees(n, out[f0]) < par.StrongFeatureAngle)
             out[f0] = n;
         }
@@ -517,7 +519,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
   if (par.QuadricMergeFactor > 0 && !quadrics.empty())
   {
     std::vector<double> ownSquares(regions, 0.0);
-    std::vector<std::int64_t> ownCount(regions, 0), size(regions, 0);
+    std::vector<std::int64_t> ownCount(regions, 0);
     std::vector<std::vector<std::int64_t>> faces(regions);
     for (std::int64_t f = 0; f < F; ++f)
     {
@@ -527,10 +529,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
         ++ownCount[region[f]];
       }
       if (assigned[f] >= 0)
-      {
-        ++size[assigned[f]];
         faces[assigned[f]].push_back(f);
-      }
     }
     struct Candidate
     {
@@ -544,7 +543,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       if (m < par.MinimumFeatureAngle || m >= strongAngle)
         continue;
       int a = b.first.first, c = b.first.second;
-      if (size[a] > size[c])
+      if (faces[a].size() > faces[c].size())
         std::swap(a, c);
       if (quadrics[c].Valid && ownCount[c] > 0)
         candidates.push_back({ m, a, c });
@@ -560,12 +559,14 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       const int ra = uf.Find(c.A), rb = uf.Find(c.B);
       if (ra == rb)
         continue;
+      std::vector<int> side; // the regions merged with A so far
+      for (int r = 0; r < regions; ++r)
+        if (uf.Find(r) == ra)
+          side.push_back(r);
       double sum = 0;
       std::int64_t count = 0;
-      for (int r = 0; r < regions; ++r)
+      for (int r : side)
       {
-        if (uf.Find(r) != ra)
-          continue;
         auto it = squares.find({ r, c.B });
         if (it == squares.end())
         {
@@ -578,16 +579,12 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
           it = squares.emplace(std::make_pair(r, c.B), s2).first;
         }
         sum += it->second;
-        count += size[r];
+        count += static_cast<std::int64_t>(faces[r].size());
       }
       const double own = std::sqrt(ownSquares[c.B] / static_cast<double>(ownCount[c.B]));
       const double other = std::sqrt(sum / static_cast<double>(std::max<std::int64_t>(1, count)));
       if (other > par.QuadricMergeFactor * std::max(own, 0.25 * meanEdge2))
         continue;
-      std::vector<int> merged; // the regions of A's side, before the union
-      for (int r = 0; r < regions; ++r)
-        if (uf.Find(r) == ra)
-          merged.push_back(r);
       if (!unite(ra, rb))
       {
         ++result.NumberOfRefusedMerges;
@@ -598,7 +595,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       // the normal of the surface they were found to lie on, where that
       // turns them by less than a sure edge would (under heavy noise a
       // merged piece may reach where the quadric no longer describes it).
-      for (int r : merged)
+      for (int r : side)
         for (std::int64_t f : faces[r])
         {
           const Vec3 n = quadrics[c.B].Normal(centre[f]);
