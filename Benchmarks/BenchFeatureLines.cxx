@@ -9,7 +9,7 @@
 //          [--islands N (default 8, vtkDigitalIslandFilter; 0 = off)] [--depth D]
 //          [--min-region M] [--angle DEG] [--strong-angle DEG] [--planar-angle DEG] [--edge-angle DEG] [--beta B]
 //          [--residual R] [--fit 0|1] [--passes P] [--vote-depth D]
-//          [--threshold T] [--second-pass 0|1] [--curved 0|1] [--quadric 0|1] [--quadric-merge F]
+//          [--threshold T] [--second-pass 0|1] [--curved 0|1] [--quadric 0|1] [--quadric-merge F] [--quadric-distance D]
 // DG_ATCACHE=DIR keeps AT's output per case in DIR and reuses it (then only
 // the stage runs, and the II and AT lines are not printed): parameter
 // studies of the stage alone.
@@ -266,7 +266,7 @@ int main(int argc, char* argv[])
   std::vector<double> noise = { 0, 0.3 };
   std::vector<int> seeds = { 1 };
   double radius = 4, alpha = 0.05, lambda = 0.005, angle = 15, strongAngle = 30, planarAngle = 6,
-         quadricMerge = 3;
+         quadricMerge = 3, quadricDistance = 3;
   int depth = 5, minRegion = 30;
   double threshold = 0.5, edgeAngle = 10;
   int islands = 8, passes = 2, voteDepth = 2, fit = 1, curved = 1, quadric = 1;
@@ -317,6 +317,8 @@ int main(int argc, char* argv[])
       quadric = std::stoi(v);
     else if (k == "--quadric-merge")
       quadricMerge = std::stod(v);
+    else if (k == "--quadric-distance")
+      quadricDistance = std::stod(v);
     else if (k == "--second-pass")
       secondPass = std::stoi(v) != 0;
     else if (k == "--passes")
@@ -358,6 +360,7 @@ int main(int argc, char* argv[])
     sharp->SetCurvedSides(curved != 0);
     sharp->SetQuadricSides(quadric != 0);
     sharp->SetQuadricMergeFactor(quadricMerge);
+    sharp->SetQuadricMergeDistance(quadricDistance);
     sharp->SetFitResidual(residual);
     sharp->SetReferenceWeight(beta);
   };

@@ -508,33 +508,41 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
   }
 
   // Then the boundaries of medium jump (between the weak and the strong
-  // angle) where one side lies on the other's whole-region quadric: under
-  // noise AT flattens part of a curved region into a facet (a patch of a
-  // sphere), whose normals jump at its rim, but whose faces lie on the
-  // curved neighbour's surface as closely as that neighbour's own faces
-  // do. The test takes everything already merged with the smaller side: a
-  // sliver of the sphere that a weak boundary joined to a disc carries the
-  // disc's faces, far from the sphere, and stays apart (cube and sphere
-  // 128^3, k = 0.3: a circle lost otherwise).
+  // angle) where one side lies on the other's quadric: under noise AT
+  // flattens part of a curved region into a facet (a patch of a sphere),
+  // whose normals jump at its rim, but whose faces lie on the curved
+  // neighbour's surface as closely as that neighbour's own faces do.
+  // - The quadric is fitted to everything already merged with the larger
+  //   side, not to one region: AT cuts a tight curved part (the built-in
+  //   shape's hole, radius 11.5 voxels) into strips a few faces wide whose
+  //   own quadrics are nearly planes (AT's normals are all but constant
+  //   across each), while the strips merged so far pin the curvature down.
+  //   For the same reason positions weigh more than normals in this fit (a
+  //   position residual of 0.3 edge lengths as much as one radian): the
+  //   normals are AT's facets'. Passes repeat until nothing merges, so a
+  //   boundary refused while its larger side was one strip is tested again
+  //   once its neighbours have merged (built-in shape, clean: precision
+  //   0.76 -> 1.00).
+  // - The test takes everything already merged with the smaller side: a
+  //   sliver of the sphere that a weak boundary joined to a disc carries the
+  //   disc's faces, far from the sphere, and stays apart (cube and sphere
+  //   128^3, k = 0.3: a circle lost otherwise).
+  // - Beyond QuadricMergeDistance edge lengths (RMS) no side is on a
+  //   quadric, however rough the quadric's own faces: under heavy noise
+  //   (cube and sphere 128^3, k = 0.4) the sphere's own RMS reaches 2 and a
+  //   whole disc, 4.5 from it, would merge.
   if (par.QuadricMergeFactor > 0 && !quadrics.empty())
   {
-    std::vector<double> ownSquares(regions, 0.0);
-    std::vector<std::int64_t> ownCount(regions, 0);
     std::vector<std::vector<std::int64_t>> faces(regions);
     for (std::int64_t f = 0; f < F; ++f)
-    {
-      if (region[f] >= 0 && quadrics[region[f]].Valid)
-      {
-        ownSquares[region[f]] += quadricDistance[f] * quadricDistance[f];
-        ++ownCount[region[f]];
-      }
       if (assigned[f] >= 0)
         faces[assigned[f]].push_back(f);
-    }
     struct Candidate
     {
       double Angle;
-      int A, B; // A: the smaller side; B: the side whose quadric is tested
+      int A, B; // two regions, one of them a quadric region
+      bool Refused = false;
+      std::size_t TestedSizes = 0; // the two sides' face counts when last tested
     };
     std::vector<Candidate> candidates;
     for (const auto& b : boundary)
@@ -542,68 +550,105 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       const double m = median(b.second);
       if (m < par.MinimumFeatureAngle || m >= strongAngle)
         continue;
-      int a = b.first.first, c = b.first.second;
-      if (faces[a].size() > faces[c].size())
-        std::swap(a, c);
-      if (quadrics[c].Valid && ownCount[c] > 0)
+      const int a = b.first.first, c = b.first.second;
+      if (quadrics[a].Valid || quadrics[c].Valid)
         candidates.push_back({ m, a, c });
     }
     std::sort(candidates.begin(),
       candidates.end(),
       [](const Candidate& x, const Candidate& y)
       { return std::tie(x.Angle, x.A, x.B) < std::tie(y.Angle, y.A, y.B); });
-    // Sums of squared distances of a region's faces to a region's quadric.
-    std::map<std::pair<int, int>, double> squares;
-    for (const auto& c : candidates)
-    {
-      const int ra = uf.Find(c.A), rb = uf.Find(c.B);
-      if (ra == rb)
-        continue;
-      std::vector<int> side; // the regions merged with A so far
-      for (int r = 0; r < regions; ++r)
-        if (uf.Find(r) == ra)
-          side.push_back(r);
+    // The merged groups' members, kept up to date as they merge.
+    std::vector<std::vector<int>> members(regions);
+    for (int r = 0; r < regions; ++r)
+      members[uf.Find(r)].push_back(r);
+    std::vector<std::size_t> groupSize(regions, 0); // faces, at the roots
+    for (int r = 0; r < regions; ++r)
+      groupSize[uf.Find(r)] += faces[r].size();
+    auto groupFaces = [&](int root) {
+      std::vector<std::int64_t> out;
+      for (int r : members[root])
+        out.insert(out.end(), faces[r].begin(), faces[r].end());
+      return out;
+    };
+    auto rms = [&](const RegionQuadric& q, const std::vector<std::int64_t>& fs) {
       double sum = 0;
-      std::int64_t count = 0;
-      for (int r : side)
+      for (std::int64_t f : fs)
       {
-        auto it = squares.find({ r, c.B });
-        if (it == squares.end())
+        const double d = q.Distance(centre[f]);
+        sum += d * d;
+      }
+      return std::sqrt(sum / static_cast<double>(std::max<std::size_t>(1, fs.size())));
+    };
+    // A group's quadric and own RMS, refitted only when the group has grown.
+    struct GroupFit
+    {
+      std::size_t Members = 0;
+      RegionQuadric Quadric;
+      double Own = 0;
+    };
+    std::vector<GroupFit> fits(regions);
+    // Passes until nothing merges: a boundary refused while its larger side
+    // was one strip may pass once the strips beside it have merged.
+    for (bool merged = true; merged;)
+    {
+      merged = false;
+      for (auto& c : candidates)
+      {
+        int ra = uf.Find(c.A), rb = uf.Find(c.B);
+        if (ra == rb)
+          continue;
+        // Sides only grow: the same total means the same two sides, and
+        // the same answer as last time.
+        if (groupSize[ra] + groupSize[rb] == c.TestedSizes)
+          continue;
+        c.TestedSizes = groupSize[ra] + groupSize[rb];
+        // The larger merged side's quadric; the smaller side is tested.
+        if (groupSize[ra] > groupSize[rb])
+          std::swap(ra, rb);
+        GroupFit& g = fits[rb];
+        if (g.Members != members[rb].size())
         {
-          double s2 = 0;
-          for (std::int64_t f : faces[r])
-          {
-            const double d = quadrics[c.B].Distance(centre[f]);
-            s2 += d * d;
-          }
-          it = squares.emplace(std::make_pair(r, c.B), s2).first;
+          const std::vector<std::int64_t> own = groupFaces(rb);
+          g.Members = members[rb].size();
+          g.Quadric = FitQuadric(own, centre, field, 0.3 * meanEdge2);
+          g.Own = g.Quadric.Valid ? rms(g.Quadric, own) : 0.0;
         }
-        sum += it->second;
-        count += static_cast<std::int64_t>(faces[r].size());
-      }
-      const double own = std::sqrt(ownSquares[c.B] / static_cast<double>(ownCount[c.B]));
-      const double other = std::sqrt(sum / static_cast<double>(std::max<std::int64_t>(1, count)));
-      if (other > par.QuadricMergeFactor * std::max(own, 0.25 * meanEdge2))
-        continue;
-      if (!unite(ra, rb))
-      {
-        ++result.NumberOfRefusedMerges;
-        continue;
-      }
-      ++result.NumberOfQuadricMerges;
-      // AT's normals on a flattened facet are the facet's; its faces take
-      // the normal of the surface they were found to lie on, where that
-      // turns them by less than a sure edge would (under heavy noise a
-      // merged piece may reach where the quadric no longer describes it).
-      for (int r : side)
-        for (std::int64_t f : faces[r])
+        if (!g.Quadric.Valid)
+          continue;
+        const std::vector<std::int64_t> side = groupFaces(ra);
+        const double other = rms(g.Quadric, side);
+        const double limit = std::min(par.QuadricMergeFactor * std::max(g.Own, 0.25 * meanEdge2),
+          par.QuadricMergeDistance * meanEdge2);
+        if (other > limit)
+          continue;
+        const RegionQuadric q = g.Quadric; // the union below may move fits[rb]
+        if (!unite(ra, rb))
         {
-          const Vec3 n = quadrics[c.B].Normal(centre[f]);
+          result.NumberOfRefusedMerges += !c.Refused;
+          c.Refused = true;
+          continue;
+        }
+        ++result.NumberOfQuadricMerges;
+        merged = true;
+        const int root = uf.Find(ra), gone = root == ra ? rb : ra;
+        members[root].insert(members[root].end(), members[gone].begin(), members[gone].end());
+        groupSize[root] += groupSize[gone];
+        std::vector<int>().swap(members[gone]);
+        // AT's normals on a flattened facet are the facet's; its faces take
+        // the normal of the surface they were found to lie on, where that
+        // turns them by less than a sure edge would (under heavy noise a
+        // merged piece may reach where the quadric no longer describes it).
+        for (std::int64_t f : side)
+        {
+          const Vec3 n = q.Normal(centre[f]);
           if (n.Norm() > 0 && AngleDegrees(n, out[f]) < strongAngle)
             out[f] = n;
         }
+      }
     }
   }
+
   // Renumber the merged regions in order of first appearance.
   std::vector<int> relabel(regions, -1);
   result.Region.assign(F, -1);

@@ -74,6 +74,7 @@ struct SharpFeatureParameters
   bool QuadricSides = true;       // large curved regions decide with their whole-region quadric
   double QuadricMergeFactor = 3.0; // a medium boundary merges when the smaller side lies on the
                                    // larger's quadric within this factor of its own RMS (0: never)
+  double QuadricMergeDistance = 3.0; // edge lengths: ... and within this RMS distance
 };
 
 struct SharpFeatureResult

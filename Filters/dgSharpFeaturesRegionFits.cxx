@@ -187,6 +187,34 @@ void QuadricRows(const Vec3& y, Vector10& value, Vector10& dx, Vector10& dy, Vec
   dy << 0, 2 * y.y, 0, y.x, 0, y.z, 0, 1, 0, 0;
   dz << 0, 0, 2 * y.z, 0, y.x, y.y, 0, 0, 1, 0;
 }
+
+using Matrix10 = Eigen::Matrix<double, 10, 10>;
+
+// One face's rows of the least squares below, added to its normal equations
+// (lower triangle).
+void AddQuadricRows(Matrix10& normal, Vector10& rhs, const Vec3& y, const Vec3& n, double w)
+{
+  Vector10 value, dx, dy, dz;
+  QuadricRows(y, value, dx, dy, dz);
+  normal.selfadjointView<Eigen::Lower>().rankUpdate(value, w);
+  normal.selfadjointView<Eigen::Lower>().rankUpdate(dx);
+  normal.selfadjointView<Eigen::Lower>().rankUpdate(dy);
+  normal.selfadjointView<Eigen::Lower>().rankUpdate(dz);
+  rhs += n.x * dx + n.y * dy + n.z * dz;
+}
+
+void SolveQuadric(const Matrix10& normal, const Vector10& rhs, RegionQuadric& q)
+{
+  Matrix10 a = normal.selfadjointView<Eigen::Lower>();
+  // A tiny ridge: a plane-like region leaves the quadratic terms
+  // undetermined along the normal.
+  a.diagonal().array() += 1e-9 * a.trace();
+  const Eigen::LDLT<Matrix10> ldlt(a);
+  if (ldlt.info() != Eigen::Success)
+    return;
+  q.Coefficients = ldlt.solve(rhs);
+  q.Valid = q.Coefficients.allFinite();
+}
 } // namespace
 
 double RegionQuadric::Distance(const Vec3& x) const
@@ -240,7 +268,6 @@ std::vector<RegionQuadric> FitRegionQuadrics(const std::vector<int>& region, int
     fit[r] = !skip[r] && count[r] >= minimumSize && extent[r] >= minimumExtent && extent[r] > 0;
     quadrics[r].Scale = fit[r] ? extent[r] : 1.0;
   }
-  using Matrix10 = Eigen::Matrix<double, 10, 10>;
   std::vector<Matrix10> normal(regions, Matrix10::Zero());
   std::vector<Vector10> rhs(regions, Vector10::Zero());
   for (std::size_t f = 0; f < region.size(); ++f)
@@ -248,30 +275,39 @@ std::vector<RegionQuadric> FitRegionQuadrics(const std::vector<int>& region, int
     const int r = region[f];
     if (r < 0 || !fit[r])
       continue;
-    const double s = quadrics[r].Scale, w = s * s / (unit * unit);
-    Vector10 value, dx, dy, dz;
-    QuadricRows((centre[f] - quadrics[r].Centre) * (1.0 / s), value, dx, dy, dz);
-    normal[r].selfadjointView<Eigen::Lower>().rankUpdate(value, w);
-    normal[r].selfadjointView<Eigen::Lower>().rankUpdate(dx);
-    normal[r].selfadjointView<Eigen::Lower>().rankUpdate(dy);
-    normal[r].selfadjointView<Eigen::Lower>().rankUpdate(dz);
-    rhs[r] += field[f].x * dx + field[f].y * dy + field[f].z * dz;
+    const double s = quadrics[r].Scale;
+    AddQuadricRows(normal[r], rhs[r], (centre[f] - quadrics[r].Centre) * (1.0 / s), field[f],
+      s * s / (unit * unit));
   }
   for (int r = 0; r < regions; ++r)
-  {
-    if (!fit[r])
-      continue;
-    Matrix10 a = normal[r].selfadjointView<Eigen::Lower>();
-    // A tiny ridge: a plane-like region leaves the quadratic terms
-    // undetermined along the normal.
-    a.diagonal().array() += 1e-9 * a.trace();
-    const Eigen::LDLT<Matrix10> ldlt(a);
-    if (ldlt.info() != Eigen::Success)
-      continue;
-    quadrics[r].Coefficients = ldlt.solve(rhs[r]);
-    quadrics[r].Valid = quadrics[r].Coefficients.allFinite();
-  }
+    if (fit[r])
+      SolveQuadric(normal[r], rhs[r], quadrics[r]);
   return quadrics;
+}
+
+RegionQuadric FitQuadric(const std::vector<std::int64_t>& faces, const std::vector<Vec3>& centre,
+  const std::vector<Vec3>& field, double unit)
+{
+  RegionQuadric q;
+  if (faces.size() < 10)
+    return q;
+  Vec3 sum;
+  for (std::int64_t f : faces)
+    sum += centre[f];
+  q.Centre = sum * (1.0 / static_cast<double>(faces.size()));
+  double extent = 0;
+  for (std::int64_t f : faces)
+    extent = std::max(extent, (centre[f] - q.Centre).Norm());
+  if (!(extent > 0))
+    return q;
+  q.Scale = extent;
+  Matrix10 normal = Matrix10::Zero();
+  Vector10 rhs = Vector10::Zero();
+  for (std::int64_t f : faces)
+    AddQuadricRows(normal, rhs, (centre[f] - q.Centre) * (1.0 / extent), field[f],
+      extent * extent / (unit * unit));
+  SolveQuadric(normal, rhs, q);
+  return q;
 }
 
 } // namespace sharp

@@ -96,6 +96,11 @@ std::vector<RegionQuadric> FitRegionQuadrics(const std::vector<int>& region, int
   const std::vector<Vec3>& centre, const std::vector<Vec3>& field, const std::vector<char>& skip,
   int minimumSize, double minimumExtent, double unit);
 
+// The same fit for one set of faces (at least 10), scaled by their own
+// extent.
+RegionQuadric FitQuadric(const std::vector<std::int64_t>& faces, const std::vector<Vec3>& centre,
+  const std::vector<Vec3>& field, double unit);
+
 } // namespace sharp
 } // namespace dg
 

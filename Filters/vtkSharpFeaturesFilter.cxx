@@ -104,6 +104,7 @@ int vtkSharpFeaturesFilter::RequestData(
   par.PlanarRegionAngle = this->PlanarRegionAngle;
   par.QuadricSides = this->QuadricSides;
   par.QuadricMergeFactor = this->QuadricMergeFactor;
+  par.QuadricMergeDistance = this->QuadricMergeDistance;
   par.RegionEdgeAngle = this->RegionEdgeAngle;
   std::string problem;
   if (!(par.FeatureThreshold > 0 && par.FeatureThreshold < 1))
@@ -124,6 +125,8 @@ int vtkSharpFeaturesFilter::RequestData(
     problem += " PlanarRegionAngle must be in [0, 90].";
   if (!(par.QuadricMergeFactor >= 0))
     problem += " QuadricMergeFactor must be >= 0.";
+  if (!(par.QuadricMergeDistance >= 0))
+    problem += " QuadricMergeDistance must be >= 0.";
   if (!(par.FitResidual >= 0))
     problem += " FitResidual must be >= 0.";
   if (!(par.ReferenceWeight > 0 && par.ReferenceWeight <= 1))
@@ -316,6 +319,7 @@ void vtkSharpFeaturesFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "QuadricSides: " << (this->QuadricSides ? "On" : "Off") << "\n";
   os << indent << "NumberOfQuadricRegions: " << this->NumberOfQuadricRegions << "\n";
   os << indent << "QuadricMergeFactor: " << this->QuadricMergeFactor << "\n";
+  os << indent << "QuadricMergeDistance: " << this->QuadricMergeDistance << "\n";
   os << indent << "NumberOfQuadricMerges: " << this->NumberOfQuadricMerges << "\n";
   os << indent << "RegionEdgeAngle: " << this->RegionEdgeAngle << "\n";
   os << indent << "NumberOfBandFaces: " << this->NumberOfBandFaces << "\n";

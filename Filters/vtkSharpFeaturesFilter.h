@@ -224,10 +224,11 @@ public:
   /**
    * A boundary whose jump lies between MinimumFeatureAngle and
    * StrongFeatureAngle merges all the same when everything already merged
-   * with its smaller side lies on the larger side's whole-region quadric
-   * (QuadricSides): the RMS distance of those faces to the quadric is at
-   * most this factor times the larger region's own (or a quarter edge
-   * length, if larger). Under noise AT flattens patches of a curved
+   * with its smaller side lies on the quadric fitted to everything already
+   * merged with its larger side (a QuadricSides region): the RMS distance
+   * of those faces to the quadric is at most this factor times the larger
+   * side's own (or a quarter edge length, if larger), and at most
+   * QuadricMergeDistance. Under noise AT flattens patches of a curved
    * surface into facets whose normals jump at their rim; their faces
    * still lie on the curved surface, where a true facet's do not (a cap
    * cut off a sphere of radius 20 by 28 degrees lies 1.35 units off it).
@@ -240,6 +241,17 @@ public:
    */
   vtkSetMacro(QuadricMergeFactor, double);
   vtkGetMacro(QuadricMergeFactor, double);
+  ///@}
+
+  ///@{
+  /**
+   * The quadric merges' ceiling (edge lengths, RMS): however rough the
+   * larger side's own faces, a side farther than this from its quadric is
+   * not on it (under heavy noise a sphere's own RMS reaches 2 edge
+   * lengths, and a whole disc 4.5 off it would merge). Default 3.
+   */
+  vtkSetMacro(QuadricMergeDistance, double);
+  vtkGetMacro(QuadricMergeDistance, double);
   ///@}
 
   /// Medium boundaries merged on the quadric test in the last execution.
@@ -290,6 +302,7 @@ protected:
   bool QuadricSides = true;
   int NumberOfQuadricRegions = 0;
   double QuadricMergeFactor = 3.0;
+  double QuadricMergeDistance = 3.0;
   int NumberOfQuadricMerges = 0;
   double RegionEdgeAngle = 10.0;
   vtkIdType NumberOfBandFaces = 0;

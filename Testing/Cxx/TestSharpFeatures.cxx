@@ -264,6 +264,82 @@ TEST(SharpFeaturesCore, FlattenedCapOnASphereMergesOnTheQuadric)
   }
 }
 
+// The wall of a cylindrical hole of radius 11.5 (the built-in shape's),
+// half way round, 2.5-degree quads, which AT cut into nine strips of 20
+// degrees: each strip's normals turn by 4 degrees across it (AT's all but
+// constant facet normals), v is low on a band of four quads across each
+// cut. Each strip's own quadric is nearly a plane, on which its neighbour
+// does not lie (the rule before, one region's quadric, merged none);
+// the quadric of the strips already merged follows the wall, and every cut
+// merges: one region, no line, normals within a few degrees of the wall's.
+// Without the quadric merges the eight cuts stay lines.
+TEST(SharpFeaturesCore, HoleWallCutIntoStripsMergesOnTheMergedQuadric)
+{
+  const double radius = 11.5, step = 2.5 * M_PI / 180, strip = 20 * M_PI / 180;
+  const int columns = 72, rows = 30; // 180 degrees, 30 units along the axis
+  auto inward = [](double a) { return V3(-std::cos(a), -std::sin(a), 0); };
+  std::vector<double> points, v;
+  for (int j = 0; j <= rows; ++j)
+    for (int i = 0; i <= columns; ++i)
+    {
+      const double a = i * step;
+      points.insert(points.end(), { radius * std::cos(a), radius * std::sin(a), double(j) });
+      const double cut = std::round(a / strip) * strip; // the nearest cut
+      const bool interior = cut > 0.5 * strip && cut < M_PI - 0.5 * strip;
+      v.push_back(interior && std::abs(a - cut) <= 2.6 * M_PI / 180 ? 0.05 : 1.0);
+    }
+  std::vector<std::int64_t> offsets{ 0 }, connectivity;
+  std::vector<double> g;
+  std::vector<V3> wallNormal;
+  for (int j = 0; j < rows; ++j)
+    for (int i = 0; i < columns; ++i)
+    {
+      // Wound so that the normal points into the hole, towards the axis.
+      const std::int64_t a = j * (columns + 1) + i, b = a + 1, c = a + columns + 2,
+                         d = a + columns + 1;
+      connectivity.insert(connectivity.end(), { a, d, c, b });
+      offsets.push_back(static_cast<std::int64_t>(connectivity.size()));
+      const double mid = (i + 0.5) * step, middle = (std::floor(mid / strip) + 0.5) * strip;
+      const V3 m = inward(middle + 0.2 * (mid - middle));
+      g.insert(g.end(), { m.x(), m.y(), m.z() });
+      wallNormal.push_back(inward(mid));
+    }
+  for (double factor : { dg::SharpFeatureParameters().QuadricMergeFactor, 0.0 })
+  {
+    dg::SharpFeatureParameters par;
+    par.QuadricMergeFactor = factor;
+    dg::SharpFeatureResult r;
+    std::string error;
+    ASSERT_TRUE(dg::ComputeSharpFeatures(static_cast<std::int64_t>(v.size()), points.data(),
+      offsets, connectivity, g.data(), v.data(), par, r, &error))
+      << error;
+    double worst = 0, mean = 0;
+    for (std::size_t f = 0; f < wallNormal.size(); ++f)
+    {
+      const double e = dgtest::AngleDegrees(
+        V3(r.Normals[3 * f], r.Normals[3 * f + 1], r.Normals[3 * f + 2]), wallNormal[f]);
+      worst = std::max(worst, e);
+      mean += e / static_cast<double>(wallNormal.size());
+    }
+    std::printf("hole wall, QuadricMergeFactor %g: %d regions, %d quadric merges, %zu feature "
+                "edges, normal error mean %.2f worst %.2f deg\n",
+      factor, r.NumberOfRegions, r.NumberOfQuadricMerges, r.FeatureEdges.size(), mean, worst);
+    if (factor > 0)
+    {
+      EXPECT_EQ(r.NumberOfRegions, 1);
+      EXPECT_EQ(r.NumberOfQuadricMerges, 8);
+      EXPECT_EQ(r.FeatureEdges.size(), 0u);
+      EXPECT_LT(mean, 2.0);
+    }
+    else
+    {
+      EXPECT_EQ(r.NumberOfRegions, 9);
+      EXPECT_EQ(r.FeatureEdges.size(), 8u * rows); // the eight cuts, one line each
+      EXPECT_GT(mean, 3.0); // each strip keeps its all but constant normal, up to 8 degrees off
+    }
+  }
+}
+
 // The whole-region quadric (QuadricSides) against brute force: faces
 // sampled on a sphere and on a tilted cylinder with their exact normals.
 // Q / |grad Q| is the first-order distance: on a sphere of radius R it is
@@ -426,6 +502,7 @@ TEST(SharpFeaturesFilter, OutputsAndBadInput)
   expectFailure(pd, "FeatureThreshold", [](vtkSharpFeaturesFilter* b) { b->SetFeatureThreshold(1.5); });
   expectFailure(pd, "StrongFeatureAngle", [](vtkSharpFeaturesFilter* b) { b->SetStrongFeatureAngle(200); });
   expectFailure(pd, "QuadricMergeFactor", [](vtkSharpFeaturesFilter* b) { b->SetQuadricMergeFactor(-1); });
+  expectFailure(pd, "QuadricMergeDistance", [](vtkSharpFeaturesFilter* b) { b->SetQuadricMergeDistance(-1); });
   auto nan = SheetPolyData(s, g, v);
   nan->GetCellData()->GetArray("ATNormals")->SetComponent(3, 0, NAN);
   expectFailure(nan, "NaN", none);

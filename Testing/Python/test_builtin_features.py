@@ -3,11 +3,11 @@ dgBuiltinShape.cxx: a rotated cube united with a sphere, minus a cylindrical
 hole) against the shape's analytic edges, which include the concave circles
 where the sphere leaves the cube's faces: every true edge has a line within
 1.5 voxels (recall; 0.999 measured, 0.90 when the stage's convexity test
-read a planar side's whole centroid), and most of the line length lies on a
-true edge (precision; 0.76 measured, 0.64 before the quadric merges: the
-hole's 11.5-voxel wall is cut into strips, docs/quality.md's cylinder
-item); and with the paper's noise
-(k = 0.3), no false loop on the sphere. The scoring is
+read a planar side's whole centroid), and the line length lies on a true
+edge (precision; 1.000 measured, 0.64 before the quadric merges and 0.76
+while they fitted one region's quadric: AT cuts the hole's 11.5-voxel wall
+into strips); and with the paper's noise (k = 0.3), no false loop on the
+sphere and no strips on the hole's wall. The scoring is
 Benchmarks/bench_builtin_features.py's."""
 import importlib.util
 import os
@@ -68,21 +68,23 @@ def sharp_lines(surface, quadric_merge_factor=None):
 
 surface, p, rc, n = run_program("builtin")
 check(rc >= 0.97, f"recall {rc:.3f} >= 0.97")
-check(p >= 0.70, f"precision {p:.3f} >= 0.70")
+check(p >= 0.97, f"precision {p:.3f} >= 0.97")
 # The filter run again on the program's surface gives the program's lines.
 if surface is not None:
     check(sharp_lines(surface).GetNumberOfCells() == n, f"the filter on the written surface gives the same {n} lines")
 
 # The paper's noise (k = 0.3, seed 1): AT flattens a cap of the sphere into a
 # facet whose rim the stage drew as a closed loop until the quadric merges
-# (QuadricMergeFactor): measured P 0.708 without them, 0.814 with, R 0.992.
+# (QuadricMergeFactor), and cuts the hole's wall into strips: measured P
+# 0.708 without them, 0.814 with one region's quadric, 0.920 with the merged
+# regions' quadric (2026-12-03), R 0.993.
 surface, p, rc, n = run_program("builtin-noisy", "--noise", "0.3", "--seed", "1")
 check(rc >= 0.97, f"k = 0.3: recall {rc:.3f} >= 0.97")
-check(p >= 0.78, f"k = 0.3: precision {p:.3f} >= 0.78")
+check(p >= 0.88, f"k = 0.3: precision {p:.3f} >= 0.88")
 if surface is not None:
     p0, rc0, n0 = bench.score(edges, edge_loc, sharp_lines(surface, 0))
     print(f"the same without the quadric merges: P {p0:.3f} R {rc0:.3f} ({n0} edges)")
-    check(p >= p0 + 0.05 and n < n0, f"k = 0.3: the quadric merges remove false lines (P {p0:.3f} -> {p:.3f})")
+    check(p >= p0 + 0.15 and n < n0, f"k = 0.3: the quadric merges remove false lines (P {p0:.3f} -> {p:.3f})")
 
 if failures:
     print(f"{len(failures)} check(s) failed")
