@@ -517,9 +517,11 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
   //   shape's hole, radius 11.5 voxels) into strips a few faces wide whose
   //   own quadrics are nearly planes (AT's normals are all but constant
   //   across each), while the strips merged so far pin the curvature down.
-  //   For the same reason positions weigh more than normals in this fit (a
-  //   position residual of 0.3 edge lengths as much as one radian): the
-  //   normals are AT's facets'. Passes repeat until nothing merges, so a
+  //   The fit leans on the normals more than step 3's (a position residual
+  //   of 3 edge lengths weighs as much as one radian): a quadric fitted to
+  //   the noisy positions of a 60-degree arc extrapolates badly over the
+  //   next one (cylinder 64^3, k = 0.1 and 0.2: precision 0.55-0.59 with 0.3
+  //   edge lengths, 0.62-0.97 with 3). Passes repeat until nothing merges, so a
   //   boundary refused while its larger side was one strip is tested again
   //   once its neighbours have merged (built-in shape, clean: precision
   //   0.76 -> 1.00).
@@ -611,7 +613,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
         {
           const std::vector<std::int64_t> own = groupFaces(rb);
           g.Members = members[rb].size();
-          g.Quadric = FitQuadric(own, centre, field, 0.3 * meanEdge2);
+          g.Quadric = FitQuadric(own, centre, field, 3.0 * meanEdge2);
           g.Own = g.Quadric.Valid ? rms(g.Quadric, own) : 0.0;
         }
         if (!g.Quadric.Valid)
