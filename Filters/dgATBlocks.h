@@ -5,6 +5,7 @@
 #define dgATBlocks_h
 
 #include "dgATOperators.h"
+#include "dgATSolver.h" // ATColumns
 
 #include <vtkSMPTools.h>
 
@@ -129,7 +130,7 @@ inline void ProductAndDot(const ATSystemView& m,
 
 // Column-interleaved copies (row i, column c at i * nc + c): one read of a
 // matrix row then serves every column.
-inline void Interleave(const Eigen::MatrixXd& a, std::vector<double>& v)
+inline void Interleave(ATConstColumns a, std::vector<double>& v)
 {
   const std::int64_t n = a.rows(), nc = a.cols();
   v.resize(n * nc);
@@ -147,7 +148,7 @@ inline bool AllFinite(const std::vector<double>& v)
   return std::all_of(v.begin(), v.end(), [](double a) { return std::isfinite(a); });
 }
 
-inline void Deinterleave(const std::vector<double>& v, Eigen::MatrixXd& a)
+inline void Deinterleave(const std::vector<double>& v, ATColumns a)
 {
   const std::int64_t n = a.rows(), nc = a.cols();
   for (std::int64_t c = 0; c < nc; ++c)
@@ -164,8 +165,8 @@ inline void Deinterleave(const std::vector<double>& v, Eigen::MatrixXd& a)
 template<class System>
 bool SolveColumns(System& system,
   const ATSystemView& m,
-  const Eigen::MatrixXd& b,
-  Eigen::MatrixXd& x)
+  ATConstColumns b,
+  ATColumns x)
 {
   switch (b.cols())
   {

@@ -56,11 +56,14 @@ constexpr int MaxRestarts = 3;
 // page faults and zeroing at every step) and shared by the u- and v-systems,
 // which never solve at the same time: the v-system's own set would hold 24
 // more bytes per surfel for nothing (docs/at-speed.md). Nothing in them
-// carries over from one solve to the next.
+// carries over from one solve to the next. x is not among them: CG updates
+// the caller's u or v in place (column major), which saves an interleaved
+// copy of u (24 bytes per face) and v's unknown; the iterates are bitwise
+// those of the copy.
 template<class S>
 struct ICWork
 {
-  std::vector<double> Partial, X;
+  std::vector<double> Partial;
   std::vector<S> R, P, Q, Z;
 };
 
@@ -110,6 +113,14 @@ public:
     if (this->Dist)
     {
       this->Dist->UpdateGhosts(this->Kind, x.data(), nc);
+    }
+  }
+  // The same for x, column c at x + c * ld.
+  void GhostColumns(double* x, std::int64_t ld, int nc) const
+  {
+    for (int c = 0; this->Dist && c < nc; ++c)
+    {
+      this->Dist->UpdateGhosts(this->Kind, x + c * ld, 1);
     }
   }
 
@@ -281,7 +292,7 @@ public:
     return true;
   }
 
-  bool Solve(const ATSystemView& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& x) override
+  bool Solve(const ATSystemView& m, ATConstColumns b, ATColumns x) override
   {
     return SolveColumns(*this, m, b, x);
   }
@@ -296,10 +307,13 @@ public:
   //     linearity, so A p is never formed from p), with the sums p.q.
   // r.z is summed in the forward sweep: with y = C^-1 r, r.z = y.y.
   // Same iterates as the textbook algorithm up to rounding.
+  // x is column major (row i, column c at x[c * ld + i]); r, p, q, z are
+  // interleaved.
   template<int NC>
   void UpdateAndPrecondition(bool update,
     const double* alpha,
-    std::vector<double>& x,
+    double* x,
+    std::int64_t ld,
     const std::vector<S>& p,
     std::vector<S>& r,
     const std::vector<S>& q,
@@ -332,7 +346,7 @@ public:
         double ri = r[ic];
         if (update)
         {
-          x[ic] += a[c] * p[ic];
+          x[c * ld + i] += a[c] * p[ic];
           ri -= a[c] * q[ic];
           r[ic] = static_cast<S>(ri);
           ri = r[ic];
@@ -467,16 +481,17 @@ public:
   }
 
   template<int NC>
-  bool SolveN(const ATSystemView& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& xOut, int ncRun)
+  bool SolveN(const ATSystemView& m, ATConstColumns b, ATColumns xOut, int ncRun)
   {
     const int nc = NC > 0 ? NC : ncRun;
     const std::int64_t n = this->Rows(m);
-    if (xOut.rows() != m.cols() || xOut.cols() != nc)
+    if (xOut.rows() != m.cols() || xOut.cols() != nc || b.rows() < n || b.cols() != nc)
     {
-      xOut = Eigen::MatrixXd::Zero(m.cols(), nc);
+      return false;
     }
     ICWork<S>& work = *this->Work;
-    std::vector<double>& x = work.X;
+    double* x = xOut.data();
+    const std::int64_t ld = xOut.outerStride();
     std::vector<S>&r = work.R, &p = work.P, &q = work.Q, &z = work.Z;
     // Full length (the products read the ghost rows of z), and only ever
     // grown: the vectors alternate between the u- and v-systems' sizes, and
@@ -487,17 +502,6 @@ public:
       if (w->size() < len)
       {
         ResizeHuge(*w, len);
-      }
-    }
-    if (x.size() < len)
-    {
-      ResizeHuge(x, len);
-    }
-    for (int c = 0; c < nc; ++c)
-    {
-      for (std::int64_t i = 0; i < xOut.rows(); ++i)
-      {
-        x[i * nc + c] = xOut(i, c);
       }
     }
     const std::int64_t nb = NumberOfBlocks(n);
@@ -511,26 +515,41 @@ public:
     // Below FloatCheckTolerance, a converged solve is checked against the
     // true residual and restarted from it when that is still too large.
     const bool check = sizeof(S) < sizeof(double) && this->Tolerance < FloatCheckTolerance;
+    const int* outer = m.outerIndexPtr();
+    const int* inner = m.innerIndexPtr();
+    const double* val = m.valuePtr();
     int it = 0, nActive = 0;
-    for (int restart = 0; restart <= MaxRestarts; ++restart)
+    bool breakdown = false;
+    for (int restart = 0; restart <= MaxRestarts && !breakdown; ++restart)
     {
-      this->Ghosts(x, nc);
-      // r = b - A x, from b in double; sums of b.b and r.r.
+      this->GhostColumns(x, ld, nc);
+      // r = b - A x, from b in double; sums of b.b and r.r. (A x row by
+      // row in the order of RowProduct, columns of x read in place.)
       const double* bData = b.data();
-      const std::int64_t bRows = b.rows();
+      const std::int64_t bLd = b.outerStride();
       ForBlocks(n,
         [&](std::int64_t blk, std::int64_t i0, std::int64_t i1)
         {
-          double acc[2 * (NC > 0 ? NC : 16)] = {};
-          std::vector<double> accDyn(NC > 0 ? 0 : 2 * nc, 0.0), y(nc);
+          double acc[2 * (NC > 0 ? NC : 16)] = {}, yFixed[NC > 0 ? NC : 1];
+          std::vector<double> accDyn(NC > 0 ? 0 : 2 * nc, 0.0), yDyn(NC > 0 ? 0 : nc);
           double* s = NC > 0 ? acc : accDyn.data();
+          double* y = NC > 0 ? yFixed : yDyn.data();
           for (std::int64_t i = i0; i < i1; ++i)
           {
-            RowProduct<NC>(m, i, x.data(), y.data(), nc);
+            std::fill(y, y + nc, 0.0);
+            for (int k = outer[i]; k < outer[i + 1]; ++k)
+            {
+              const double a = val[k];
+              const double* xk = x + inner[k];
+              for (int c = 0; c < nc; ++c)
+              {
+                y[c] += a * xk[c * ld];
+              }
+            }
             for (int c = 0; c < nc; ++c)
             {
               const std::int64_t ic = i * nc + c;
-              const double bic = bData[c * bRows + i];
+              const double bic = bData[c * bLd + i];
               r[ic] = static_cast<S>(bic - y[c]);
               const double ri = r[ic];
               s[2 * c] += bic * bic;
@@ -556,7 +575,7 @@ public:
       if (nActive > 0)
       {
         this->template UpdateAndPrecondition<NC>(
-          false, alpha.data(), x, p, r, q, z, nc, rr.data(), rz.data());
+          false, alpha.data(), x, ld, p, r, q, z, nc, rr.data(), rz.data());
         std::fill(g.begin(), g.end(), 1.0);
         std::fill(h.begin(), h.end(), 0.0);
         this->template NextDirection<NC>(m, z, p, q, g.data(), h.data(), nc, partial, pq.data());
@@ -566,14 +585,16 @@ public:
         ++it;
         for (int c = 0; c < nc; ++c)
         {
-          if (active[c] && !(pq[c] > 0))
-          {
-            return false; // not positive definite (or NaN)
-          }
-          alpha[c] = active[c] ? rz[c] / pq[c] : 0.0;
+          // Not positive definite (or NaN): stop before x takes the step.
+          breakdown = breakdown || (active[c] && !(pq[c] > 0));
+          alpha[c] = active[c] && !breakdown ? rz[c] / pq[c] : 0.0;
+        }
+        if (breakdown)
+        {
+          break;
         }
         this->template UpdateAndPrecondition<NC>(
-          true, alpha.data(), x, p, r, q, z, nc, rr.data(), rzNew.data());
+          true, alpha.data(), x, ld, p, r, q, z, nc, rr.data(), rzNew.data());
         nActive = 0;
         for (int c = 0; c < nc; ++c)
         {
@@ -595,19 +616,20 @@ public:
       }
     }
     this->Iterations += it;
-    bool ok = nActive == 0 &&
-      std::all_of(x.begin(), x.begin() + len, [](double a) { return std::isfinite(a); });
+    bool ok = nActive == 0 && !breakdown;
+    for (int c = 0; ok && c < nc; ++c)
+    {
+      ok = std::all_of(x + c * ld, x + c * ld + m.cols(), [](double a) { return std::isfinite(a); });
+    }
     if (this->Dist)
     {
       ok = this->Dist->AllOk(ok);
     }
-    if (!ok)
-    {
-      return false; // xOut keeps the previous values
-    }
-    this->Ghosts(x, nc);
-    Deinterleave(x, xOut);
-    return true;
+    // The ghost rows take their owners' values, success or not, so that
+    // the step goes on from one consistent u or v (the caller deals with
+    // a failure).
+    this->GhostColumns(x, ld, nc);
+    return ok;
   }
 
   void Memory(ATMemoryParts& parts, const std::string& name) const override
@@ -620,11 +642,10 @@ public:
     const ICWork<S>& w = *this->Work;
     parts.emplace_back(name +
         (!this->WorkOwner        ? ": CG vectors (shared with the u solver)"
-            : sizeof(S) == 4 ? ": CG vectors (x; r, p, q, z in float)"
-                             : ": CG vectors (x, r, p, q, z)"),
+            : sizeof(S) == 4 ? ": CG vectors (r, p, q, z in float; x is u or v)"
+                             : ": CG vectors (r, p, q, z; x is u or v)"),
       !this->WorkOwner ? 0
-                       : bytes(w.X) + bytes(w.R) + bytes(w.P) + bytes(w.Q) + bytes(w.Z) +
-          bytes(w.Partial));
+                       : bytes(w.R) + bytes(w.P) + bytes(w.Q) + bytes(w.Z) + bytes(w.Partial));
   }
 
 private:

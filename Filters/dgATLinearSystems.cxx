@@ -28,14 +28,15 @@ public:
     this->F.factorize(ATSystemMatrix(m));
     return this->F.info() == Eigen::Success;
   }
-  bool Solve(const ATSystemView&, const Eigen::MatrixXd& b, Eigen::MatrixXd& x) override
+  bool Solve(const ATSystemView&, ATConstColumns b, ATColumns x) override
   {
-    Eigen::MatrixXd y = this->F.solve(b);
-    if (this->F.info() != Eigen::Success || !y.allFinite())
+    Eigen::MatrixXd y = this->F.solve(Eigen::MatrixXd(b));
+    if (this->F.info() != Eigen::Success || !y.allFinite() || y.rows() != x.rows() ||
+      y.cols() != x.cols())
     {
       return false;
     }
-    x = std::move(y);
+    x = y;
     return true;
   }
 
@@ -76,7 +77,7 @@ public:
     return ok;
   }
 
-  bool Solve(const ATSystemView& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& x) override
+  bool Solve(const ATSystemView& m, ATConstColumns b, ATColumns x) override
   {
     return SolveColumns(*this, m, b, x);
   }
@@ -92,13 +93,13 @@ public:
   // p = D^-1 r + beta p in one sweep. Same iterates as the textbook
   // algorithm, two vector passes fewer per iteration.
   template<int NC>
-  bool SolveN(const ATSystemView& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& xOut, int ncRun)
+  bool SolveN(const ATSystemView& m, ATConstColumns b, ATColumns xOut, int ncRun)
   {
     const int nc = NC > 0 ? NC : ncRun;
     const std::int64_t n = m.cols();
     if (xOut.rows() != n || xOut.cols() != nc)
     {
-      xOut = Eigen::MatrixXd::Zero(n, nc);
+      return false;
     }
     const double* dinv = this->InvDiag.data();
     std::vector<double> x, r, p(n * nc), q(n * nc);

@@ -19,9 +19,13 @@ public:
   virtual ~ATLinearSystem() = default;
   virtual bool Analyze(const ATSystemView&) { return true; }
   virtual bool Factorize(const ATSystemView&) = 0;
-  /// x holds the previous solution on entry (a warm start for iterative
-  /// solvers) and the new one on success.
-  virtual bool Solve(const ATSystemView& m, const Eigen::MatrixXd& b, Eigen::MatrixXd& x) = 0;
+  /// x (m.cols() x b.cols()) holds the previous solution on entry (a warm
+  /// start for iterative solvers) and the new one on success. On failure it
+  /// holds the previous values, except with ConjugateGradientIC: it solves in
+  /// place (no copy of x: 24 bytes per face of the u-system), and leaves
+  /// CG's last iterate, whose error in the A-norm is no larger than the warm
+  /// start's; ATSolver handles a non-finite one.
+  virtual bool Solve(const ATSystemView& m, ATConstColumns b, ATColumns x) = 0;
   /// The bytes this solver holds (factor, work vectors), by name.
   virtual void Memory(ATMemoryParts&, const std::string&) const {}
   /// Iterative solvers: the relative residual to stop at (direct ones ignore it).

@@ -146,8 +146,34 @@ void ATSolver::InitializeFromU()
     AdviseHugePages(this->v.data(), static_cast<std::size_t>(nv) * sizeof(double));
   }
   this->v.setOnes();
-  this->VRhs.resize(0, 0);
   this->LastVChange = 0;
+}
+
+// One array for the assembly's per-edge values and the v-step's previous v
+// and right-hand side (they are never needed at the same time), sized once.
+double* ATSolver::EdgeScratch()
+{
+  const std::size_t n = static_cast<std::size_t>(
+    std::max(this->Complex.NumberOfEdges(), 2 * this->Complex.NumberOfVertices()));
+  if (this->EdgeWork.size() != n)
+  {
+    std::vector<double>().swap(this->EdgeWork);
+    ResizeHuge(this->EdgeWork, n);
+  }
+  return this->EdgeWork.data();
+}
+
+void ATSolver::RecoverG(Eigen::MatrixXd& out) const
+{
+  const double alpha = this->Params.Alpha;
+  for (Eigen::Index f = 0; f < this->URhs.rows(); ++f)
+  {
+    const double w = this->Metric ? this->Metric->FaceArea[f] : 1.0;
+    if (w > 0)
+    {
+      out.row(f) = this->URhs.row(f) / (alpha * w);
+    }
+  }
 }
 
 double* ATSolver::SystemValues()
@@ -184,8 +210,7 @@ void ATSolver::AssembleU()
   const ATComplex& K = this->Complex;
   const std::int64_t ne = K.NumberOfEdges(), nf = K.NumberOfFaces();
   // w(e) = ((M v)_e)^2, the weight of edge e in B^T diag(Mv)^2 B.
-  std::vector<double>& w = this->EdgeWork;
-  ResizeHuge(w, static_cast<std::size_t>(ne));
+  double* w = this->EdgeScratch();
   const double* ratio = this->Metric ? this->Metric->EdgeRatio.data() : nullptr;
   const double* faceArea = this->Metric ? this->Metric->FaceArea.data() : nullptr;
   ForBlocks(ne,
@@ -267,8 +292,7 @@ void ATSolver::AssembleV(double epsilon)
   const std::int64_t ne = K.NumberOfEdges(), nv = K.NumberOfVertices();
   const int nc = static_cast<int>(this->u.cols());
   // q(e) = sum_i ((B u_i)_e)^2: the squared jump of u across edge e.
-  std::vector<double>& q = this->EdgeWork;
-  ResizeHuge(q, static_cast<std::size_t>(ne));
+  double* q = this->EdgeScratch();
   const double* ratio = this->Metric ? this->Metric->EdgeRatio.data() : nullptr;
   const double* vertexArea = this->Metric ? this->Metric->VertexArea.data() : nullptr;
   ForBlocks(ne,
@@ -338,9 +362,10 @@ void ATSolver::AssembleV(double epsilon)
 
 bool ATSolver::SolveSystem(ATLinearSystem& system,
   const ATSystemView& m,
-  const Eigen::MatrixXd& b,
-  Eigen::MatrixXd& x,
-  const char* name)
+  ATConstColumns b,
+  ATColumns x,
+  const char* name,
+  const std::function<void()>& restore)
 {
   auto t0 = Clock::now();
   // Every process takes the same branches: a local failure fails them all.
@@ -361,16 +386,23 @@ bool ATSolver::SolveSystem(ATLinearSystem& system,
   this->Stats.Factorization += Seconds(t0);
   t0 = Clock::now();
   const std::int64_t it0 = system.Iterations;
-  // Solve leaves x as it was when it fails.
   const bool solved = factored && system.Solve(m, b, x);
   this->Stats.Solve += Seconds(t0);
   this->Stats.CGIterations += system.Iterations - it0;
   if (!solved)
   {
     std::ostringstream s;
+    // A non-finite iterate (an in-place solver that broke down) is
+    // replaced by the values before the step; every process agrees.
+    const bool finite = agree(x.allFinite());
+    if (!finite)
+    {
+      restore();
+    }
     s << "the " << name << " linear solve failed ("
-      << (factored ? "no convergence or non-finite result" : "factorisation failed")
-      << "); the previous values are kept";
+      << (factored ? "no convergence or non-finite result" : "factorisation failed") << "); "
+      << (finite ? "the step keeps what the solver left (its last iterate, or the previous values)"
+                 : "the values before the step are kept");
     this->WarningList.push_back(s.str());
     ++this->Stats.FailedSolves;
     return false;
@@ -409,8 +441,10 @@ bool ATSolver::StepU()
   this->AssembleU();
   this->Stats.Assembly += Seconds(t0);
   const std::int64_t it0 = this->Stats.CGIterations;
-  const bool ok = this->SolveSystem(
-    *this->USystem, this->UP.View(this->Values.data()), this->URhs, this->u, "u-step");
+  // CG solves in place, so there is no copy of u to go back to: the
+  // restore recovers g from its right-hand sides alpha g (to rounding).
+  const bool ok = this->SolveSystem(*this->USystem, this->UP.View(this->Values.data()), this->URhs,
+    this->u, "u-step", [this]() { this->RecoverG(this->u); });
   this->Stats.CGIterationsU += this->Stats.CGIterations - it0;
   return ok;
 }
@@ -423,38 +457,31 @@ bool ATSolver::StepV(double epsilon)
   auto t0 = Clock::now();
   this->AssembleV(epsilon);
   this->Stats.Assembly += Seconds(t0);
-  const double rhs = this->Params.Lambda / (4 * epsilon);
-  if (this->VRhs.rows() != this->v.size() || this->VRhs.size() == 0 || this->VRhsEpsilon != epsilon)
+  // The assembly is done with the per-edge values: the scratch now holds
+  // the previous v (for the stopping rule, and to go back to) and the
+  // right-hand side, and v is solved in place.
+  const Eigen::Index nv = this->v.size();
+  double* scratch = this->EdgeScratch();
+  Eigen::Map<Eigen::VectorXd> previous(scratch, nv), rhs(scratch + nv, nv);
+  previous = this->v;
+  rhs.setConstant(this->Params.Lambda / (4 * epsilon));
+  if (this->Metric)
   {
-    this->VRhs.resize(this->v.size(), 1);
-    AdviseHugePages(this->VRhs.data(), static_cast<std::size_t>(this->VRhs.size()) * sizeof(double));
-    this->VRhs.setConstant(rhs);
-    if (this->Metric)
-    {
-      this->VRhs.col(0).array() *=
-        Eigen::Map<const Eigen::ArrayXd>(this->Metric->VertexArea.data(), this->v.size());
-    }
-    this->VRhsEpsilon = epsilon;
+    rhs.array() *= Eigen::Map<const Eigen::ArrayXd>(this->Metric->VertexArea.data(), nv);
   }
-  if (this->VX.rows() != this->v.size() || this->VX.cols() != 1)
-  {
-    this->VX.resize(this->v.size(), 1);
-    AdviseHugePages(this->VX.data(), static_cast<std::size_t>(this->VX.size()) * sizeof(double));
-  }
-  this->VX.col(0) = this->v;
-  const bool ok = this->SolveSystem(
-    *this->VSystem, this->VP.View(this->Values.data()), this->VRhs, this->VX, "v-step");
+  const bool ok = this->SolveSystem(*this->VSystem, this->VP.View(this->Values.data()),
+    Eigen::Map<const Eigen::MatrixXd>(rhs.data(), nv, 1), this->v, "v-step",
+    [&]() { this->v = previous; });
   // The stopping rule's max |v - v_prev| over the owned rows, taken here
   // where both are at hand (Run kept a copy of v for it: 8 bytes a vertex).
   this->LastVChange = 0;
   if (ok)
   {
-    const std::int64_t owned = this->Distribution ? this->Distribution->Owned(1) : this->v.size();
+    const std::int64_t owned = this->Distribution ? this->Distribution->Owned(1) : nv;
     if (owned > 0)
     {
-      this->LastVChange = (this->VX.col(0).head(owned) - this->v.head(owned)).lpNorm<Eigen::Infinity>();
+      this->LastVChange = (this->v.head(owned) - previous.head(owned)).lpNorm<Eigen::Infinity>();
     }
-    this->v = this->VX.col(0);
   }
   return ok;
 }
@@ -464,9 +491,9 @@ void ATSolver::Memory(ATMemoryParts& parts) const
   auto dense = [](const Eigen::MatrixXd& m) { return static_cast<std::size_t>(m.size()) * sizeof(double); };
   parts.emplace_back("solver: u", dense(this->u));
   parts.emplace_back("solver: u right-hand sides (alpha g; g is not kept)", dense(this->URhs));
-  parts.emplace_back("solver: v, v right-hand side, v unknown",
-    static_cast<std::size_t>(this->v.size()) * sizeof(double) + dense(this->VRhs) + dense(this->VX));
-  parts.emplace_back("solver: per-edge work", this->EdgeWork.capacity() * sizeof(double));
+  parts.emplace_back("solver: v", static_cast<std::size_t>(this->v.size()) * sizeof(double));
+  parts.emplace_back("solver: per-edge work (v-step: previous v, right-hand side)",
+    this->EdgeWork.capacity() * sizeof(double));
   parts.emplace_back("solver: u pattern (indices)", this->UP.Bytes());
   parts.emplace_back("solver: v pattern (indices)", this->VP.Bytes());
   parts.emplace_back("solver: matrix values (one buffer, u and v in turn)",

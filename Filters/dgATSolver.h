@@ -131,6 +131,10 @@ struct ATStatistics
 using ATProgressCallback = std::function<bool(double)>;
 
 class ATLinearSystem;
+/// Dense columns passed to the linear solvers without copies (an
+/// Eigen::MatrixXd, or an Eigen::VectorXd as one column).
+using ATColumns = Eigen::Ref<Eigen::MatrixXd>;
+using ATConstColumns = Eigen::Ref<const Eigen::MatrixXd>;
 
 /// The communication of a distributed solve (one process per piece, see
 /// docs/distributed.md): each process holds its rows of both systems (its
@@ -230,23 +234,28 @@ private:
   void MakeSystems();
   bool SolveSystem(ATLinearSystem& system,
     const ATSystemView& m,
-    const Eigen::MatrixXd& b,
-    Eigen::MatrixXd& x,
-    const char* name);
+    ATConstColumns b,
+    ATColumns x,
+    const char* name,
+    const std::function<void()>& restore);
+  double* EdgeScratch();
+  /// out = g, recovered from the u right-hand sides alpha g (to rounding).
+  void RecoverG(Eigen::MatrixXd& out) const;
   const ATComplex& Complex;
   const ATDistribution* Distribution = nullptr;
   const ATMetric* Metric = nullptr;
-  double VRhsEpsilon = 0; // the epsilon VRhs was made for
   double LastVChange = 0; // max |v - v_prev| of the last StepV (owned rows)
   double ToleranceFactor = 1.0; // CGToleranceEarlyFactor on the levels before the last
   ATParameters Params;
   ATStatistics Stats;
   Eigen::MatrixXd u;
   Eigen::VectorXd v;
-  // Right-hand sides (alpha g; lambda / (4 eps) for the current eps) and the
-  // v-step's unknown as a matrix, kept between steps.
-  Eigen::MatrixXd URhs, VRhs, VX;
-  std::vector<double> EdgeWork; // per-edge weights or jumps of the assembly
+  // The u right-hand sides alpha g, kept between steps.
+  Eigen::MatrixXd URhs;
+  // Per-edge weights or jumps of the assembly; during a v-step, the previous
+  // v and the right-hand side (lambda / (4 eps)) instead, so that neither
+  // needs an array of its own (16 bytes per vertex).
+  std::vector<double> EdgeWork;
   // The systems' patterns and one values buffer for both: a step assembles
   // its system, factorises and solves it, and the next step's system then
   // overwrites the values (40 bytes per surfel less on a quad surface).
