@@ -39,6 +39,7 @@
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
 #include <vtkDataArrayRange.h>
+#include <vtkDoubleArray.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
@@ -583,6 +584,11 @@ int main(int argc, char* argv[])
         seenV = v;
         return true;
       };
+      // As the filter: the right-hand sides read g in the II output array.
+      if (vtkDoubleArray* doubles = vtkDoubleArray::FastDownCast(field))
+      {
+        solver.SetFieldSource(doubles->GetPointer(polyOffset * nc), nc, 1);
+      }
       const bool ok = exact ? solver.Run(g, progress) : solver.Run(std::move(g), progress);
       run.Run = Seconds(t0);
       run.AT = run.Prep + run.Complex + run.Run;

@@ -165,17 +165,17 @@ inline void Deinterleave(const std::vector<double>& v, ATColumns a)
 template<class System>
 bool SolveColumns(System& system,
   const ATSystemView& m,
-  ATConstColumns b,
+  const ATRhs& b,
   ATColumns x)
 {
-  switch (b.cols())
+  switch (b.Columns)
   {
     case 1:
       return system.template SolveN<1>(m, b, x, 1);
     case 3:
       return system.template SolveN<3>(m, b, x, 3);
     default:
-      return system.template SolveN<0>(m, b, x, static_cast<int>(b.cols()));
+      return system.template SolveN<0>(m, b, x, static_cast<int>(b.Columns));
   }
 }
 

@@ -292,7 +292,7 @@ public:
     return true;
   }
 
-  bool Solve(const ATSystemView& m, ATConstColumns b, ATColumns x) override
+  bool Solve(const ATSystemView& m, const ATRhs& b, ATColumns x) override
   {
     return SolveColumns(*this, m, b, x);
   }
@@ -481,11 +481,11 @@ public:
   }
 
   template<int NC>
-  bool SolveN(const ATSystemView& m, ATConstColumns b, ATColumns xOut, int ncRun)
+  bool SolveN(const ATSystemView& m, const ATRhs& b, ATColumns xOut, int ncRun)
   {
     const int nc = NC > 0 ? NC : ncRun;
     const std::int64_t n = this->Rows(m);
-    if (xOut.rows() != m.cols() || xOut.cols() != nc || b.rows() < n || b.cols() != nc)
+    if (xOut.rows() != m.cols() || xOut.cols() != nc || b.Rows < n || b.Columns != nc)
     {
       return false;
     }
@@ -525,8 +525,6 @@ public:
       this->GhostColumns(x, ld, nc);
       // r = b - A x, from b in double; sums of b.b and r.r. (A x row by
       // row in the order of RowProduct, columns of x read in place.)
-      const double* bData = b.data();
-      const std::int64_t bLd = b.outerStride();
       ForBlocks(n,
         [&](std::int64_t blk, std::int64_t i0, std::int64_t i1)
         {
@@ -549,7 +547,7 @@ public:
             for (int c = 0; c < nc; ++c)
             {
               const std::int64_t ic = i * nc + c;
-              const double bic = bData[c * bLd + i];
+              const double bic = b(i, c);
               r[ic] = static_cast<S>(bic - y[c]);
               const double ri = r[ic];
               s[2 * c] += bic * bic;

@@ -28,9 +28,9 @@ public:
     this->F.factorize(ATSystemMatrix(m));
     return this->F.info() == Eigen::Success;
   }
-  bool Solve(const ATSystemView&, ATConstColumns b, ATColumns x) override
+  bool Solve(const ATSystemView&, const ATRhs& b, ATColumns x) override
   {
-    Eigen::MatrixXd y = this->F.solve(Eigen::MatrixXd(b));
+    Eigen::MatrixXd y = this->F.solve(b.Dense());
     if (this->F.info() != Eigen::Success || !y.allFinite() || y.rows() != x.rows() ||
       y.cols() != x.cols())
     {
@@ -77,7 +77,7 @@ public:
     return ok;
   }
 
-  bool Solve(const ATSystemView& m, ATConstColumns b, ATColumns x) override
+  bool Solve(const ATSystemView& m, const ATRhs& b, ATColumns x) override
   {
     return SolveColumns(*this, m, b, x);
   }
@@ -93,7 +93,7 @@ public:
   // p = D^-1 r + beta p in one sweep. Same iterates as the textbook
   // algorithm, two vector passes fewer per iteration.
   template<int NC>
-  bool SolveN(const ATSystemView& m, ATConstColumns b, ATColumns xOut, int ncRun)
+  bool SolveN(const ATSystemView& m, const ATRhs& b, ATColumns xOut, int ncRun)
   {
     const int nc = NC > 0 ? NC : ncRun;
     const std::int64_t n = m.cols();
@@ -104,7 +104,7 @@ public:
     const double* dinv = this->InvDiag.data();
     std::vector<double> x, r, p(n * nc), q(n * nc);
     Interleave(xOut, x);
-    Interleave(b, r);
+    Interleave(b.Dense(), r);
     const std::int64_t nb = NumberOfBlocks(n);
     std::vector<double> partial(nb * 3 * nc);
     std::vector<double> sums(3 * nc);

@@ -25,7 +25,7 @@ public:
   /// place (no copy of x: 24 bytes per face of the u-system), and leaves
   /// CG's last iterate, whose error in the A-norm is no larger than the warm
   /// start's; ATSolver handles a non-finite one.
-  virtual bool Solve(const ATSystemView& m, ATConstColumns b, ATColumns x) = 0;
+  virtual bool Solve(const ATSystemView& m, const ATRhs& b, ATColumns x) = 0;
   /// The bytes this solver holds (factor, work vectors), by name.
   virtual void Memory(ATMemoryParts&, const std::string&) const {}
   /// Iterative solvers: the relative residual to stop at (direct ones ignore it).

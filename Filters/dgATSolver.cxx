@@ -126,18 +126,29 @@ void ATSolver::Initialize(Eigen::MatrixXd&& field)
   this->InitializeFromU();
 }
 
-// u = g on entry. g itself is not kept: the u right-hand sides alpha g (times
-// the face areas with a metric) are computed from u before any step, so
-// bitwise what they were from g, and Energy recovers g from them.
+// u = g on entry. The solver keeps g for the u right-hand sides alpha g
+// (read in place, ATRhs): a copy of u, unless the caller's array holds the
+// same values (SetFieldSource).
 void ATSolver::InitializeFromU()
 {
-  this->URhs.resize(this->u.rows(), this->u.cols()); // not touched yet: advised first
-  AdviseHugePages(this->URhs.data(), static_cast<std::size_t>(this->URhs.size()) * sizeof(double));
-  this->URhs.noalias() = this->Params.Alpha * this->u;
-  if (this->Metric)
+  bool source = this->FieldSource != nullptr;
+  for (Eigen::Index c = 0; source && c < this->u.cols(); ++c)
   {
-    const Eigen::Map<const Eigen::VectorXd> area(this->Metric->FaceArea.data(), this->u.rows());
-    this->URhs = this->URhs.array().colwise() * area.array();
+    for (Eigen::Index f = 0; source && f < this->u.rows(); ++f)
+    {
+      source = this->FieldSource[f * this->FieldRowStride + c * this->FieldColumnStride] ==
+        this->u(f, c);
+    }
+  }
+  if (source)
+  {
+    Eigen::MatrixXd().swap(this->G);
+  }
+  else
+  {
+    this->G.resize(this->u.rows(), this->u.cols()); // not touched yet: advised first
+    AdviseHugePages(this->G.data(), static_cast<std::size_t>(this->G.size()) * sizeof(double));
+    this->G = this->u;
   }
   const Eigen::Index nv = this->Complex.NumberOfVertices();
   if (this->v.size() != nv)
@@ -150,11 +161,11 @@ void ATSolver::InitializeFromU()
 }
 
 // One array for the assembly's per-edge values and the v-step's previous v
-// and right-hand side (they are never needed at the same time), sized once.
+// (they are never needed at the same time), sized once.
 double* ATSolver::EdgeScratch()
 {
   const std::size_t n = static_cast<std::size_t>(
-    std::max(this->Complex.NumberOfEdges(), 2 * this->Complex.NumberOfVertices()));
+    std::max(this->Complex.NumberOfEdges(), this->Complex.NumberOfVertices()));
   if (this->EdgeWork.size() != n)
   {
     std::vector<double>().swap(this->EdgeWork);
@@ -163,15 +174,41 @@ double* ATSolver::EdgeScratch()
   return this->EdgeWork.data();
 }
 
+double ATSolver::GValue(std::int64_t f, std::int64_t c) const
+{
+  return this->G.size() ? this->G(f, c)
+                        : this->FieldSource[f * this->FieldRowStride + c * this->FieldColumnStride];
+}
+
+ATRhs ATSolver::URhs() const
+{
+  ATRhs b;
+  b.Rows = this->u.rows();
+  b.Columns = this->u.cols();
+  if (this->G.size())
+  {
+    b.Data = this->G.data();
+    b.RowStride = 1;
+    b.ColumnStride = this->G.rows();
+  }
+  else
+  {
+    b.Data = this->FieldSource;
+    b.RowStride = this->FieldRowStride;
+    b.ColumnStride = this->FieldColumnStride;
+  }
+  b.Scale = this->Params.Alpha;
+  b.RowScale = this->Metric ? this->Metric->FaceArea.data() : nullptr;
+  return b;
+}
+
 void ATSolver::RecoverG(Eigen::MatrixXd& out) const
 {
-  const double alpha = this->Params.Alpha;
-  for (Eigen::Index f = 0; f < this->URhs.rows(); ++f)
+  for (Eigen::Index c = 0; c < out.cols(); ++c)
   {
-    const double w = this->Metric ? this->Metric->FaceArea[f] : 1.0;
-    if (w > 0)
+    for (Eigen::Index f = 0; f < out.rows(); ++f)
     {
-      out.row(f) = this->URhs.row(f) / (alpha * w);
+      out(f, c) = this->GValue(f, c);
     }
   }
 }
@@ -362,7 +399,7 @@ void ATSolver::AssembleV(double epsilon)
 
 bool ATSolver::SolveSystem(ATLinearSystem& system,
   const ATSystemView& m,
-  ATConstColumns b,
+  const ATRhs& b,
   ATColumns x,
   const char* name,
   const std::function<void()>& restore)
@@ -442,9 +479,9 @@ bool ATSolver::StepU()
   this->Stats.Assembly += Seconds(t0);
   const std::int64_t it0 = this->Stats.CGIterations;
   // CG solves in place, so there is no copy of u to go back to: the
-  // restore recovers g from its right-hand sides alpha g (to rounding).
-  const bool ok = this->SolveSystem(*this->USystem, this->UP.View(this->Values.data()), this->URhs,
-    this->u, "u-step", [this]() { this->RecoverG(this->u); });
+  // restore takes g.
+  const bool ok = this->SolveSystem(*this->USystem, this->UP.View(this->Values.data()),
+    this->URhs(), this->u, "u-step", [this]() { this->RecoverG(this->u); });
   this->Stats.CGIterationsU += this->Stats.CGIterations - it0;
   return ok;
 }
@@ -458,20 +495,19 @@ bool ATSolver::StepV(double epsilon)
   this->AssembleV(epsilon);
   this->Stats.Assembly += Seconds(t0);
   // The assembly is done with the per-edge values: the scratch now holds
-  // the previous v (for the stopping rule, and to go back to) and the
-  // right-hand side, and v is solved in place.
+  // the previous v (for the stopping rule, and to go back to), and v is
+  // solved in place. The right-hand side lambda / (4 eps) (times the
+  // vertex areas) is read as it is needed.
   const Eigen::Index nv = this->v.size();
-  double* scratch = this->EdgeScratch();
-  Eigen::Map<Eigen::VectorXd> previous(scratch, nv), rhs(scratch + nv, nv);
+  Eigen::Map<Eigen::VectorXd> previous(this->EdgeScratch(), nv);
   previous = this->v;
-  rhs.setConstant(this->Params.Lambda / (4 * epsilon));
-  if (this->Metric)
-  {
-    rhs.array() *= Eigen::Map<const Eigen::ArrayXd>(this->Metric->VertexArea.data(), nv);
-  }
-  const bool ok = this->SolveSystem(*this->VSystem, this->VP.View(this->Values.data()),
-    Eigen::Map<const Eigen::MatrixXd>(rhs.data(), nv, 1), this->v, "v-step",
-    [&]() { this->v = previous; });
+  ATRhs rhs;
+  rhs.Rows = nv;
+  rhs.Columns = 1;
+  rhs.Scale = this->Params.Lambda / (4 * epsilon);
+  rhs.RowScale = this->Metric ? this->Metric->VertexArea.data() : nullptr;
+  const bool ok = this->SolveSystem(*this->VSystem, this->VP.View(this->Values.data()), rhs,
+    this->v, "v-step", [&]() { this->v = previous; });
   // The stopping rule's max |v - v_prev| over the owned rows, taken here
   // where both are at hand (Run kept a copy of v for it: 8 bytes a vertex).
   this->LastVChange = 0;
@@ -490,9 +526,11 @@ void ATSolver::Memory(ATMemoryParts& parts) const
 {
   auto dense = [](const Eigen::MatrixXd& m) { return static_cast<std::size_t>(m.size()) * sizeof(double); };
   parts.emplace_back("solver: u", dense(this->u));
-  parts.emplace_back("solver: u right-hand sides (alpha g; g is not kept)", dense(this->URhs));
+  parts.emplace_back(this->G.size() ? "solver: g (for the u right-hand sides alpha g)"
+                                     : "solver: g (read from the caller's array)",
+    dense(this->G));
   parts.emplace_back("solver: v", static_cast<std::size_t>(this->v.size()) * sizeof(double));
-  parts.emplace_back("solver: per-edge work (v-step: previous v, right-hand side)",
+  parts.emplace_back("solver: per-edge work (v-step: the previous v)",
     this->EdgeWork.capacity() * sizeof(double));
   parts.emplace_back("solver: u pattern (indices)", this->UP.Bytes());
   parts.emplace_back("solver: v pattern (indices)", this->VP.Bytes());
@@ -513,7 +551,7 @@ double ATSolver::Energy(double epsilon) const
   const ATComplex& K = this->Complex;
   const std::int64_t nf = K.NumberOfFaces(), ne = K.NumberOfEdges(), nv = K.NumberOfVertices();
   const int nc = static_cast<int>(this->u.cols());
-  const double lambda = this->Params.Lambda, alpha = this->Params.Alpha;
+  const double lambda = this->Params.Lambda;
   double total = 0;
   {
     const std::int64_t nb = NumberOfBlocks(nf);
@@ -524,11 +562,11 @@ double ATSolver::Energy(double epsilon) const
         double s = 0;
         for (std::int64_t f = f0; f < f1; ++f)
         {
-          // g = URhs / (alpha |f|), to rounding (see InitializeFromU).
           const double w = this->Metric ? this->Metric->FaceArea[f] : 1.0;
-          if (w > 0)
+          for (int c = 0; c < nc; ++c)
           {
-            s += w * (this->u.row(f) - this->URhs.row(f) / (alpha * w)).squaredNorm();
+            const double d = this->u(f, c) - this->GValue(f, c);
+            s += w * d * d;
           }
         }
         part[b] = s;

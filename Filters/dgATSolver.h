@@ -136,6 +136,49 @@ class ATLinearSystem;
 using ATColumns = Eigen::Ref<Eigen::MatrixXd>;
 using ATConstColumns = Eigen::Ref<const Eigen::MatrixXd>;
 
+/// A right-hand side read where it lies, without a dense copy: entry (i, c)
+/// is (Scale * Data[i * RowStride + c * ColumnStride]) * RowScale[i], a null
+/// Data reading 1 and a null RowScale 1. The products are taken in the order
+/// the dense right-hand sides it replaced were made in (alpha g, then the
+/// face areas; lambda / (4 eps), then the vertex areas), so the same bits.
+struct ATRhs
+{
+  const double* Data = nullptr;
+  std::int64_t Rows = 0, Columns = 0, RowStride = 0, ColumnStride = 0;
+  double Scale = 1;
+  const double* RowScale = nullptr;
+  double operator()(std::int64_t i, std::int64_t c) const
+  {
+    const double d =
+      this->Data ? this->Scale * this->Data[i * this->RowStride + c * this->ColumnStride] : this->Scale;
+    return this->RowScale ? d * this->RowScale[i] : d;
+  }
+  /// A dense matrix's columns (b must outlive the result).
+  static ATRhs Of(const Eigen::MatrixXd& b)
+  {
+    ATRhs r;
+    r.Data = b.data();
+    r.Rows = b.rows();
+    r.Columns = b.cols();
+    r.RowStride = 1;
+    r.ColumnStride = b.rows();
+    return r;
+  }
+  /// The same as a dense matrix (for the reference solvers).
+  Eigen::MatrixXd Dense() const
+  {
+    Eigen::MatrixXd b(this->Rows, this->Columns);
+    for (std::int64_t c = 0; c < this->Columns; ++c)
+    {
+      for (std::int64_t i = 0; i < this->Rows; ++i)
+      {
+        b(i, c) = (*this)(i, c);
+      }
+    }
+    return b;
+  }
+};
+
 /// The communication of a distributed solve (one process per piece, see
 /// docs/distributed.md): each process holds its rows of both systems (its
 /// owned faces and vertices, numbered first) and a halo of ghost rows whose
@@ -186,6 +229,22 @@ public:
   /// and outlive Run(). Set before Run() or Initialize().
   void SetMetric(const ATMetric* m) { this->Metric = m; }
 
+  /// Reads g, for the u right-hand sides alpha g, from the caller's array
+  /// instead of a copy of its own (24 bytes per face with normals): entry
+  /// (f, c) at g[f * rowStride + c * columnStride], which must hold the
+  /// field given to Run or Initialize and outlive the steps
+  /// (vtkAmbrosioTortorelliFilter passes its input array). A source that
+  /// differs from that field is not used (the solver copies the field).
+  /// Null: the solver's own copy, the default.
+  void SetFieldSource(const double* g, std::int64_t rowStride, std::int64_t columnStride)
+  {
+    this->FieldSource = g;
+    this->FieldRowStride = rowStride;
+    this->FieldColumnStride = columnStride;
+  }
+  /// True when the last Initialize or Run reads g from the caller's array.
+  bool UsesFieldSource() const { return this->G.size() == 0 && this->FieldSource; }
+
   /// The whole schedule: u <- g, v <- 1, then levels of alternating steps.
   /// g is F x C (one row per face). Returns false when aborted or when the
   /// parameters are invalid (see Error()). Solver failures do not stop the
@@ -234,12 +293,14 @@ private:
   void MakeSystems();
   bool SolveSystem(ATLinearSystem& system,
     const ATSystemView& m,
-    ATConstColumns b,
+    const ATRhs& b,
     ATColumns x,
     const char* name,
     const std::function<void()>& restore);
+  /// The u right-hand sides alpha g (times the face areas with a metric).
+  ATRhs URhs() const;
+  double GValue(std::int64_t f, std::int64_t c) const;
   double* EdgeScratch();
-  /// out = g, recovered from the u right-hand sides alpha g (to rounding).
   void RecoverG(Eigen::MatrixXd& out) const;
   const ATComplex& Complex;
   const ATDistribution* Distribution = nullptr;
@@ -250,11 +311,13 @@ private:
   ATStatistics Stats;
   Eigen::MatrixXd u;
   Eigen::VectorXd v;
-  // The u right-hand sides alpha g, kept between steps.
-  Eigen::MatrixXd URhs;
+  // g, for the u right-hand sides: the solver's copy G, or the caller's
+  // array (SetFieldSource), in which case G is empty.
+  Eigen::MatrixXd G;
+  const double* FieldSource = nullptr;
+  std::int64_t FieldRowStride = 0, FieldColumnStride = 0;
   // Per-edge weights or jumps of the assembly; during a v-step, the previous
-  // v and the right-hand side (lambda / (4 eps)) instead, so that neither
-  // needs an array of its own (16 bytes per vertex).
+  // v instead, so that it needs no array of its own (8 bytes per vertex).
   std::vector<double> EdgeWork;
   // The systems' patterns and one values buffer for both: a step assembles
   // its system, factorises and solves it, and the next step's system then

@@ -596,6 +596,15 @@ int vtkAmbrosioTortorelliFilter::Internals::Solve(vtkAmbrosioTortorelliFilter* s
   {
     solver.SetMetric(&metric);
   }
+  // When the field's own values are g (doubles, not scaled), the solver
+  // reads the right-hand sides alpha g there instead of keeping a copy of g
+  // (24 bytes per face; it checks that the values are the same).
+  vtkDoubleArray* doubles = vtkDoubleArray::FastDownCast(field);
+  if (scale == 1.0 && doubles)
+  {
+    const vtkIdType polyOffset = input->GetNumberOfVerts() + input->GetNumberOfLines();
+    solver.SetFieldSource(doubles->GetPointer(polyOffset * g.cols()), g.cols(), 1);
+  }
   // g is not read after the solve: the solver takes it instead of a copy.
   const bool done = solver.Run(std::move(g), [self](double f) {
     self->UpdateProgress(0.1 + 0.85 * f);

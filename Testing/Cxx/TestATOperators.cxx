@@ -748,3 +748,33 @@ TEST(ATOperators, FailedSolvesWarnAndKeepPreviousValuesOrABetterIterate)
     EXPECT_GT(MaxAbs(one.V() - v0), 0.0);
   }
 }
+
+// The u right-hand sides can read g in the caller's array (interleaved, as
+// a VTK array holds it) instead of a copy: the same bits; a source that is
+// not the field given to Run is not used.
+TEST(ATOperators, FieldSourceGivesTheSameRunAndIsCheckedAgainstTheField)
+{
+  auto pd = Surface(dgtest::Ball(12, 4.3));
+  const dg::ATComplex c = Build(FromPolyData(pd));
+  const Eigen::MatrixXd g = TrivialNormalsPlusNoise(pd, 0.3, 5);
+  const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> interleaved = g;
+  dg::ATSolver copying(c);
+  ASSERT_TRUE(copying.Run(g)) << copying.Error();
+  EXPECT_FALSE(copying.UsesFieldSource());
+  dg::ATSolver reading(c);
+  reading.SetFieldSource(interleaved.data(), 3, 1);
+  ASSERT_TRUE(reading.Run(g)) << reading.Error();
+  EXPECT_TRUE(reading.UsesFieldSource());
+  EXPECT_EQ(MaxAbs(reading.U() - copying.U()), 0.0);
+  EXPECT_EQ((reading.V() - copying.V()).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(reading.Statistics().CGIterations, copying.Statistics().CGIterations);
+  EXPECT_NEAR(reading.Energy(0.25), copying.Energy(0.25), 1e-12 * std::abs(copying.Energy(0.25)));
+
+  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> other = interleaved;
+  other(other.rows() / 2, 1) += 1e-9;
+  dg::ATSolver wrong(c);
+  wrong.SetFieldSource(other.data(), 3, 1);
+  ASSERT_TRUE(wrong.Run(g)) << wrong.Error();
+  EXPECT_FALSE(wrong.UsesFieldSource());
+  EXPECT_EQ(MaxAbs(wrong.U() - copying.U()), 0.0);
+}
