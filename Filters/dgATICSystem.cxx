@@ -137,45 +137,78 @@ public:
       this->Blocks[b] = b * n / nBlocks;
     }
     // Two passes: count, then fill arrays of the exact size (push_back's
-    // doubling left about 13 bytes per row unused).
+    // doubling left about 13 bytes per row unused). The factor's columns of
+    // row i are the matrix row's in-block entries below the diagonal: with
+    // columns ascending, the LPtr[i + 1] - LPtr[i] entries just before the
+    // diagonal. So only the diagonal's place in the row is stored (a byte,
+    // DiagOffset), not the columns (8 bytes per row and system on a quad
+    // surface); LCol is filled only when a row does not fit that (unsorted
+    // rows, or a diagonal 256 or more entries into its row).
     AssignHuge(this->LPtr, static_cast<std::size_t>(n + 1), 0);
+    std::vector<unsigned char>().swap(this->DiagOffset);
+    AssignHuge(this->DiagOffset, static_cast<std::size_t>(n), static_cast<unsigned char>(0));
+    std::vector<int>().swap(this->LCol);
+    this->ColumnsInMatrix = false;
+    bool derived = true;
     for (int pass = 0; pass < 2; ++pass)
     {
       if (pass == 1)
       {
-        std::vector<int>().swap(this->LCol);
+        this->ColumnsInMatrix = derived;
+        if (derived)
+        {
+          break;
+        }
+        std::vector<unsigned char>().swap(this->DiagOffset);
         AssignHuge(this->LCol, static_cast<std::size_t>(this->LPtr[n]), 0);
       }
       for (std::int64_t i = 0, blk = 0; i < n; ++i)
       {
         blk += i == this->Blocks[blk + 1];
         const std::int64_t lo = this->Blocks[blk];
-        int count = 0;
-        bool diagonal = false;
+        int count = 0, diagonal = -1, last = -1;
         for (int k = outer[i]; k < outer[i + 1]; ++k)
         {
           const int j = inner[k];
-          diagonal = diagonal || j == i;
+          diagonal = j == i ? k : diagonal;
           if (j >= lo && j < i) // couplings between blocks are not in the factor
           {
             if (pass == 1)
             {
               this->LCol[this->LPtr[i] + count] = j;
             }
+            last = k;
             ++count;
           }
         }
-        if (!diagonal)
+        if (diagonal < 0)
         {
           return false;
         }
         if (pass == 0)
         {
           this->LPtr[i + 1] = this->LPtr[i] + count;
+          const int offset = diagonal - outer[i];
+          const bool sorted = std::is_sorted(inner + outer[i], inner + outer[i + 1]);
+          derived = derived && sorted && offset < 256 && (count == 0 || last == diagonal - 1);
+          this->DiagOffset[i] = static_cast<unsigned char>(derived ? offset : 0);
         }
       }
     }
     return true;
+  }
+
+  // Row i's factor columns: cols[kk + shift] for kk in [LPtr[i], LPtr[i+1])
+  // (see Analyze).
+  const int* FactorColumns(const int* inner) const
+  {
+    return this->ColumnsInMatrix ? inner : this->LCol.data();
+  }
+  std::int64_t FactorShift(const int* outer, std::int64_t i) const
+  {
+    return this->ColumnsInMatrix
+      ? static_cast<std::int64_t>(outer[i]) + this->DiagOffset[i] - this->LPtr[i + 1]
+      : 0;
   }
 
   // The factor is kept as A ~ C C^T with C = L D^(1/2) (lower, non-unit
@@ -201,7 +234,8 @@ public:
       }
       return 0.0;
     };
-    ResizeHuge(this->LVal, this->LCol.size());
+    ResizeHuge(this->LVal, static_cast<std::size_t>(this->LPtr[n]));
+    const int* cols = this->FactorColumns(inner);
     ResizeHuge(this->InvC, static_cast<std::size_t>(n));
     std::vector<double> d;
     AssignHuge(d, static_cast<std::size_t>(n), 0.0);
@@ -221,6 +255,7 @@ public:
           for (std::int64_t i = lo; i < this->Blocks[blk + 1]; ++i)
           {
             const std::int64_t l0 = this->LPtr[i], l1 = this->LPtr[i + 1];
+            const std::int64_t shiftI = this->FactorShift(outer, i);
             double di = diagonal(i);
             std::int64_t kk = l0;
             for (int k = outer[i]; k < outer[i + 1] && kk < l1; ++k)
@@ -233,10 +268,10 @@ public:
               // a_ij = sum_{m < j} l_im d_m l_jm + l_ij d_j over the common pattern.
               double t = val[k];
               std::int64_t a = l0, b = this->LPtr[j];
-              const std::int64_t bEnd = this->LPtr[j + 1];
+              const std::int64_t bEnd = this->LPtr[j + 1], shiftJ = this->FactorShift(outer, j);
               while (a < kk && b < bEnd)
               {
-                const int ca = this->LCol[a], cb = this->LCol[b];
+                const int ca = cols[a + shiftI], cb = cols[b + shiftJ];
                 if (ca == cb)
                 {
                   t -= lij[a] * d[ca] * lij[b];
@@ -268,9 +303,10 @@ public:
           {
             d[i] = std::sqrt(d[i]);
             this->InvC[i] = static_cast<float>(1.0 / d[i]);
+            const std::int64_t shift = this->FactorShift(outer, i);
             for (std::int64_t kk = this->LPtr[i]; kk < this->LPtr[i + 1]; ++kk)
             {
-              lij[kk] = static_cast<float>(lij[kk] * d[this->LCol[kk]]);
+              lij[kk] = static_cast<float>(lij[kk] * d[cols[kk + shift]]);
             }
           }
         }
@@ -310,7 +346,8 @@ public:
   // x is column major (row i, column c at x[c * ld + i]); r, p, q, z are
   // interleaved.
   template<int NC>
-  void UpdateAndPrecondition(bool update,
+  void UpdateAndPrecondition(const ATSystemView& m,
+    bool update,
     const double* alpha,
     double* x,
     std::int64_t ld,
@@ -324,6 +361,8 @@ public:
   {
     const int nc = NC > 0 ? NC : ncRun;
     const std::int64_t nBlocks = static_cast<std::int64_t>(this->Blocks.size()) - 1;
+    const int* outer = m.outerIndexPtr();
+    const int* cols = this->FactorColumns(m.innerIndexPtr());
     std::vector<double>& partialSums = this->Work->Partial;
     partialSums.resize(nBlocks * 2 * nc); // every block writes its own sums
     double aFixed[NC > 0 ? NC : 1] = {};
@@ -354,10 +393,11 @@ public:
         s[c] += ri * ri;
         t[c] = ri;
       }
+      const std::int64_t shift = this->FactorShift(outer, i);
       for (std::int64_t kk = this->LPtr[i]; kk < this->LPtr[i + 1]; ++kk)
       {
         const double l = this->LVal[kk];
-        const S* zj = z.data() + static_cast<std::int64_t>(this->LCol[kk]) * nc;
+        const S* zj = z.data() + static_cast<std::int64_t>(cols[kk + shift]) * nc;
         for (int c = 0; c < nc; ++c)
         {
           t[c] -= l * zj[c];
@@ -385,10 +425,11 @@ public:
         zi[c] = static_cast<S>(t[c]);
         t[c] = zi[c]; // pass on the value stored, as CG will read it
       }
+      const std::int64_t shift = this->FactorShift(outer, i);
       for (std::int64_t kk = this->LPtr[i]; kk < this->LPtr[i + 1]; ++kk)
       {
         const double l = this->LVal[kk];
-        S* zj = z.data() + static_cast<std::int64_t>(this->LCol[kk]) * nc;
+        S* zj = z.data() + static_cast<std::int64_t>(cols[kk + shift]) * nc;
         for (int c = 0; c < nc; ++c)
         {
           zj[c] = static_cast<S>(zj[c] - l * t[c]);
@@ -572,7 +613,7 @@ public:
       }
       if (nActive > 0)
       {
-        this->template UpdateAndPrecondition<NC>(
+        this->template UpdateAndPrecondition<NC>(m,
           false, alpha.data(), x, ld, p, r, q, z, nc, rr.data(), rz.data());
         std::fill(g.begin(), g.end(), 1.0);
         std::fill(h.begin(), h.end(), 0.0);
@@ -591,7 +632,7 @@ public:
         {
           break;
         }
-        this->template UpdateAndPrecondition<NC>(
+        this->template UpdateAndPrecondition<NC>(m,
           true, alpha.data(), x, ld, p, r, q, z, nc, rr.data(), rzNew.data());
         nActive = 0;
         for (int c = 0; c < nc; ++c)
@@ -633,8 +674,8 @@ public:
   void Memory(ATMemoryParts& parts, const std::string& name) const override
   {
     auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
-    parts.emplace_back(name + ": IC pattern (L columns, row starts)",
-      bytes(this->LPtr) + bytes(this->LCol) + bytes(this->Blocks));
+    parts.emplace_back(name + ": IC pattern (row starts; columns: the matrix's)",
+      bytes(this->LPtr) + bytes(this->LCol) + bytes(this->DiagOffset) + bytes(this->Blocks));
     parts.emplace_back(name + ": IC factor (C values, 1/C_ii; float)",
       bytes(this->LVal) + bytes(this->InvC));
     const ICWork<S>& w = *this->Work;
@@ -654,7 +695,9 @@ private:
   std::vector<std::int64_t> Blocks;
   // int like the matrix's own indices (the factor has fewer entries).
   std::vector<int> LPtr;
-  std::vector<int> LCol;
+  std::vector<int> LCol; // empty when the columns are read in the matrix (Analyze)
+  bool ColumnsInMatrix = false;
+  std::vector<unsigned char> DiagOffset;
   std::vector<float> LVal, InvC; // C's entries below the diagonal, 1 / C_ii
   std::shared_ptr<ICWork<S>> Work;
   bool WorkOwner = true;
