@@ -60,11 +60,16 @@ constexpr int MaxRestarts = 3;
 // the caller's u or v in place (column major), which saves an interleaved
 // copy of u (24 bytes per face) and v's unknown; the iterates are bitwise
 // those of the copy.
+// The factor's values too: each step factorises its system just before
+// solving it, so the u- and v-factors are never needed at the same time
+// (12 bytes per surfel less on a quad surface); the patterns are kept per
+// system.
 template<class S>
 struct ICWork
 {
   std::vector<double> Partial;
   std::vector<S> R, P, Q, Z;
+  std::vector<float> LVal, InvC; // C's entries below the diagonal, 1 / C_ii
 };
 
 // S stores the CG vectors r, p, q and z (float or double); x and every sum
@@ -234,14 +239,26 @@ public:
       }
       return 0.0;
     };
-    ResizeHuge(this->LVal, static_cast<std::size_t>(this->LPtr[n]));
+    // Grown only, as the CG vectors (the u- and v-factors take turns).
+    std::vector<float>& lij = this->Work->LVal;
+    std::vector<float>& invC = this->Work->InvC;
+    // Reallocated at the exact size (nothing in them is kept): growing in
+    // place would double the capacity.
+    if (lij.size() < static_cast<std::size_t>(this->LPtr[n]))
+    {
+      std::vector<float>().swap(lij);
+      ResizeHuge(lij, static_cast<std::size_t>(this->LPtr[n]));
+    }
+    if (invC.size() < static_cast<std::size_t>(n))
+    {
+      std::vector<float>().swap(invC);
+      ResizeHuge(invC, static_cast<std::size_t>(n));
+    }
     const int* cols = this->FactorColumns(inner);
-    ResizeHuge(this->InvC, static_cast<std::size_t>(n));
     std::vector<double> d;
     AssignHuge(d, static_cast<std::size_t>(n), 0.0);
     // LVal first holds L D L^T's unit-diagonal L (in float, as the
     // recurrences read it), then C's values.
-    std::vector<float>& lij = this->LVal;
     const std::int64_t nBlocks = static_cast<std::int64_t>(this->Blocks.size()) - 1;
     std::vector<char> blockOk(nBlocks, 1);
     vtkSMPTools::For(0,
@@ -302,7 +319,7 @@ public:
           for (std::int64_t i = lo; blockOk[blk] && i < this->Blocks[blk + 1]; ++i)
           {
             d[i] = std::sqrt(d[i]);
-            this->InvC[i] = static_cast<float>(1.0 / d[i]);
+            invC[i] = static_cast<float>(1.0 / d[i]);
             const std::int64_t shift = this->FactorShift(outer, i);
             for (std::int64_t kk = this->LPtr[i]; kk < this->LPtr[i + 1]; ++kk)
             {
@@ -314,7 +331,7 @@ public:
     if (std::find(blockOk.begin(), blockOk.end(), 0) != blockOk.end())
     {
       // Jacobi fallback: L = I, D = diag(A).
-      std::fill(lij.begin(), lij.end(), 0.0f);
+      std::fill(lij.begin(), lij.begin() + this->LPtr[n], 0.0f);
       for (std::int64_t i = 0; i < n; ++i)
       {
         const double a = diagonal(i);
@@ -322,7 +339,7 @@ public:
         {
           return false;
         }
-        this->InvC[i] = static_cast<float>(1.0 / std::sqrt(a));
+        invC[i] = static_cast<float>(1.0 / std::sqrt(a));
       }
     }
     return true;
@@ -363,6 +380,8 @@ public:
     const std::int64_t nBlocks = static_cast<std::int64_t>(this->Blocks.size()) - 1;
     const int* outer = m.outerIndexPtr();
     const int* cols = this->FactorColumns(m.innerIndexPtr());
+    const float* lVal = this->Work->LVal.data();
+    const float* invC = this->Work->InvC.data();
     std::vector<double>& partialSums = this->Work->Partial;
     partialSums.resize(nBlocks * 2 * nc); // every block writes its own sums
     double aFixed[NC > 0 ? NC : 1] = {};
@@ -396,7 +415,7 @@ public:
       const std::int64_t shift = this->FactorShift(outer, i);
       for (std::int64_t kk = this->LPtr[i]; kk < this->LPtr[i + 1]; ++kk)
       {
-        const double l = this->LVal[kk];
+        const double l = lVal[kk];
         const S* zj = z.data() + static_cast<std::int64_t>(cols[kk + shift]) * nc;
         for (int c = 0; c < nc; ++c)
         {
@@ -404,7 +423,7 @@ public:
         }
       }
       S* zi = z.data() + i * nc;
-      const double ci = this->InvC[i];
+      const double ci = invC[i];
       for (int c = 0; c < nc; ++c)
       {
         const double y = t[c] * ci;
@@ -418,7 +437,7 @@ public:
     auto backward = [&](std::int64_t i, double* t)
     {
       S* zi = z.data() + i * nc;
-      const double ci = this->InvC[i];
+      const double ci = invC[i];
       for (int c = 0; c < nc; ++c)
       {
         t[c] = zi[c] * ci;
@@ -428,7 +447,7 @@ public:
       const std::int64_t shift = this->FactorShift(outer, i);
       for (std::int64_t kk = this->LPtr[i]; kk < this->LPtr[i + 1]; ++kk)
       {
-        const double l = this->LVal[kk];
+        const double l = lVal[kk];
         S* zj = z.data() + static_cast<std::int64_t>(cols[kk + shift]) * nc;
         for (int c = 0; c < nc; ++c)
         {
@@ -542,6 +561,7 @@ public:
     {
       if (w->size() < len)
       {
+        std::vector<S>().swap(*w); // nothing to keep; growing in place could double it
         ResizeHuge(*w, len);
       }
     }
@@ -676,8 +696,10 @@ public:
     auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
     parts.emplace_back(name + ": IC pattern (row starts; columns: the matrix's)",
       bytes(this->LPtr) + bytes(this->LCol) + bytes(this->DiagOffset) + bytes(this->Blocks));
-    parts.emplace_back(name + ": IC factor (C values, 1/C_ii; float)",
-      bytes(this->LVal) + bytes(this->InvC));
+    parts.emplace_back(name +
+        (this->WorkOwner ? ": IC factor (C values, 1/C_ii; float; u and v in turn)"
+                         : ": IC factor (shared with the u solver)"),
+      this->WorkOwner ? bytes(this->Work->LVal) + bytes(this->Work->InvC) : 0);
     const ICWork<S>& w = *this->Work;
     parts.emplace_back(name +
         (!this->WorkOwner        ? ": CG vectors (shared with the u solver)"
@@ -698,7 +720,6 @@ private:
   std::vector<int> LCol; // empty when the columns are read in the matrix (Analyze)
   bool ColumnsInMatrix = false;
   std::vector<unsigned char> DiagOffset;
-  std::vector<float> LVal, InvC; // C's entries below the diagonal, 1 / C_ii
   std::shared_ptr<ICWork<S>> Work;
   bool WorkOwner = true;
 };
