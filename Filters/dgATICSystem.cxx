@@ -87,6 +87,11 @@ public:
   {
   }
   void SetTolerance(double tolerance) override { this->Tolerance = tolerance; }
+  void SetFactorScratch(double* scratch, std::size_t size) override
+  {
+    this->Scratch = scratch;
+    this->ScratchSize = scratch ? size : 0;
+  }
   bool ShareWork(ATLinearSystem& other) override
   {
     auto* o = dynamic_cast<ICSystem<S>*>(&other);
@@ -255,8 +260,15 @@ public:
       ResizeHuge(invC, static_cast<std::size_t>(n));
     }
     const int* cols = this->FactorColumns(inner);
-    std::vector<double> d;
-    AssignHuge(d, static_cast<std::size_t>(n), 0.0);
+    // The pivots: in the caller's scratch when it is large enough (every
+    // entry is written before it is read), else an array of their own.
+    std::vector<double> own;
+    double* d = this->Scratch;
+    if (!d || this->ScratchSize < static_cast<std::size_t>(n))
+    {
+      AssignHuge(own, static_cast<std::size_t>(n), 0.0);
+      d = own.data();
+    }
     // LVal first holds L D L^T's unit-diagonal L (in float, as the
     // recurrences read it), then C's values.
     const std::int64_t nBlocks = static_cast<std::int64_t>(this->Blocks.size()) - 1;
@@ -719,6 +731,8 @@ private:
   std::vector<int> LPtr;
   std::vector<int> LCol; // empty when the columns are read in the matrix (Analyze)
   bool ColumnsInMatrix = false;
+  double* Scratch = nullptr;
+  std::size_t ScratchSize = 0;
   std::vector<unsigned char> DiagOffset;
   std::shared_ptr<ICWork<S>> Work;
   bool WorkOwner = true;

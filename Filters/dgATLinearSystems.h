@@ -19,6 +19,9 @@ public:
   virtual ~ATLinearSystem() = default;
   virtual bool Analyze(const ATSystemView&) { return true; }
   virtual bool Factorize(const ATSystemView&) = 0;
+  /// Doubles that the next Factorize may use as work space (null: none),
+  /// so that it allocates nothing; the caller's, free until Factorize returns.
+  virtual void SetFactorScratch(double*, std::size_t) {}
   /// x (m.cols() x b.cols()) holds the previous solution on entry (a warm
   /// start for iterative solvers) and the new one on success. On failure it
   /// holds the previous values, except with ConjugateGradientIC: it solves in

@@ -160,12 +160,13 @@ void ATSolver::InitializeFromU()
   this->LastVChange = 0;
 }
 
-// One array for the assembly's per-edge values and the v-step's previous v
-// (they are never needed at the same time), sized once.
+// One array for the assembly's per-edge values, then the IC factorisation's
+// pivots, and during a v-step the previous v beside them (never needed at
+// the same time), sized once.
 double* ATSolver::EdgeScratch()
 {
-  const std::size_t n = static_cast<std::size_t>(
-    std::max(this->Complex.NumberOfEdges(), this->Complex.NumberOfVertices()));
+  const std::size_t n = static_cast<std::size_t>(std::max({ this->Complex.NumberOfEdges(),
+    this->Complex.NumberOfFaces(), 2 * this->Complex.NumberOfVertices() }));
   if (this->EdgeWork.size() != n)
   {
     std::vector<double>().swap(this->EdgeWork);
@@ -402,7 +403,8 @@ bool ATSolver::SolveSystem(ATLinearSystem& system,
   const ATRhs& b,
   ATColumns x,
   const char* name,
-  const std::function<void()>& restore)
+  const std::function<void()>& restore,
+  std::pair<double*, std::size_t> factorScratch)
 {
   auto t0 = Clock::now();
   // Every process takes the same branches: a local failure fails them all.
@@ -419,7 +421,9 @@ bool ATSolver::SolveSystem(ATLinearSystem& system,
     }
     t0 = Clock::now();
   }
+  system.SetFactorScratch(factorScratch.first, factorScratch.second);
   const bool factored = agree(system.Factorize(m));
+  system.SetFactorScratch(nullptr, 0);
   this->Stats.Factorization += Seconds(t0);
   t0 = Clock::now();
   const std::int64_t it0 = system.Iterations;
@@ -481,7 +485,8 @@ bool ATSolver::StepU()
   // CG solves in place, so there is no copy of u to go back to: the
   // restore takes g.
   const bool ok = this->SolveSystem(*this->USystem, this->UP.View(this->Values.data()),
-    this->URhs(), this->u, "u-step", [this]() { this->RecoverG(this->u); });
+    this->URhs(), this->u, "u-step", [this]() { this->RecoverG(this->u); },
+    { this->EdgeScratch(), this->EdgeWork.size() });
   this->Stats.CGIterationsU += this->Stats.CGIterations - it0;
   return ok;
 }
@@ -507,7 +512,8 @@ bool ATSolver::StepV(double epsilon)
   rhs.Scale = this->Params.Lambda / (4 * epsilon);
   rhs.RowScale = this->Metric ? this->Metric->VertexArea.data() : nullptr;
   const bool ok = this->SolveSystem(*this->VSystem, this->VP.View(this->Values.data()), rhs,
-    this->v, "v-step", [&]() { this->v = previous; });
+    this->v, "v-step", [&]() { this->v = previous; },
+    { this->EdgeWork.data() + nv, this->EdgeWork.size() - nv });
   // The stopping rule's max |v - v_prev| over the owned rows, taken here
   // where both are at hand (Run kept a copy of v for it: 8 bytes a vertex).
   this->LastVChange = 0;

@@ -296,7 +296,8 @@ private:
     const ATRhs& b,
     ATColumns x,
     const char* name,
-    const std::function<void()>& restore);
+    const std::function<void()>& restore,
+    std::pair<double*, std::size_t> factorScratch);
   /// The u right-hand sides alpha g (times the face areas with a metric).
   ATRhs URhs() const;
   double GValue(std::int64_t f, std::int64_t c) const;
