@@ -147,78 +147,45 @@ public:
       this->Blocks[b] = b * n / nBlocks;
     }
     // Two passes: count, then fill arrays of the exact size (push_back's
-    // doubling left about 13 bytes per row unused). The factor's columns of
-    // row i are the matrix row's in-block entries below the diagonal: with
-    // columns ascending, the LPtr[i + 1] - LPtr[i] entries just before the
-    // diagonal. So only the diagonal's place in the row is stored (a byte,
-    // DiagOffset), not the columns (8 bytes per row and system on a quad
-    // surface); LCol is filled only when a row does not fit that (unsorted
-    // rows, or a diagonal 256 or more entries into its row).
+    // doubling left about 13 bytes per row unused).
     AssignHuge(this->LPtr, static_cast<std::size_t>(n + 1), 0);
-    std::vector<unsigned char>().swap(this->DiagOffset);
-    AssignHuge(this->DiagOffset, static_cast<std::size_t>(n), static_cast<unsigned char>(0));
-    std::vector<int>().swap(this->LCol);
-    this->ColumnsInMatrix = false;
-    bool derived = true;
     for (int pass = 0; pass < 2; ++pass)
     {
       if (pass == 1)
       {
-        this->ColumnsInMatrix = derived;
-        if (derived)
-        {
-          break;
-        }
-        std::vector<unsigned char>().swap(this->DiagOffset);
+        std::vector<int>().swap(this->LCol);
         AssignHuge(this->LCol, static_cast<std::size_t>(this->LPtr[n]), 0);
       }
       for (std::int64_t i = 0, blk = 0; i < n; ++i)
       {
         blk += i == this->Blocks[blk + 1];
         const std::int64_t lo = this->Blocks[blk];
-        int count = 0, diagonal = -1, last = -1;
+        int count = 0;
+        bool diagonal = false;
         for (int k = outer[i]; k < outer[i + 1]; ++k)
         {
           const int j = inner[k];
-          diagonal = j == i ? k : diagonal;
+          diagonal = diagonal || j == i;
           if (j >= lo && j < i) // couplings between blocks are not in the factor
           {
             if (pass == 1)
             {
               this->LCol[this->LPtr[i] + count] = j;
             }
-            last = k;
             ++count;
           }
         }
-        if (diagonal < 0)
+        if (!diagonal)
         {
           return false;
         }
         if (pass == 0)
         {
           this->LPtr[i + 1] = this->LPtr[i] + count;
-          const int offset = diagonal - outer[i];
-          const bool sorted = std::is_sorted(inner + outer[i], inner + outer[i + 1]);
-          derived = derived && sorted && offset < 256 && (count == 0 || last == diagonal - 1);
-          this->DiagOffset[i] = static_cast<unsigned char>(derived ? offset : 0);
         }
       }
     }
     return true;
-  }
-
-  // Row i's factor columns: cols[kk + shift] for kk in [LPtr[i], LPtr[i+1])
-  // (see Analyze).
-  const int* FactorColumns(const int* inner) const
-  {
-    return this->ColumnsInMatrix ? inner : this->LCol.data();
-  }
-  std::int64_t FactorShift(const int* outer, std::int64_t i) const
-  {
-    return this->ColumnsInMatrix
-      ? static_cast<std::int64_t>(outer[i]) + this->DiagOffset[i] - this->LPtr[i + 1]
-      : 0;
   }
 
   // The factor is kept as A ~ C C^T with C = L D^(1/2) (lower, non-unit
@@ -259,7 +226,6 @@ public:
       std::vector<float>().swap(invC);
       ResizeHuge(invC, static_cast<std::size_t>(n));
     }
-    const int* cols = this->FactorColumns(inner);
     // The pivots: in the caller's scratch when it is large enough (every
     // entry is written before it is read), else an array of their own.
     std::vector<double> own;
@@ -284,7 +250,6 @@ public:
           for (std::int64_t i = lo; i < this->Blocks[blk + 1]; ++i)
           {
             const std::int64_t l0 = this->LPtr[i], l1 = this->LPtr[i + 1];
-            const std::int64_t shiftI = this->FactorShift(outer, i);
             double di = diagonal(i);
             std::int64_t kk = l0;
             for (int k = outer[i]; k < outer[i + 1] && kk < l1; ++k)
@@ -297,10 +262,10 @@ public:
               // a_ij = sum_{m < j} l_im d_m l_jm + l_ij d_j over the common pattern.
               double t = val[k];
               std::int64_t a = l0, b = this->LPtr[j];
-              const std::int64_t bEnd = this->LPtr[j + 1], shiftJ = this->FactorShift(outer, j);
+              const std::int64_t bEnd = this->LPtr[j + 1];
               while (a < kk && b < bEnd)
               {
-                const int ca = cols[a + shiftI], cb = cols[b + shiftJ];
+                const int ca = this->LCol[a], cb = this->LCol[b];
                 if (ca == cb)
                 {
                   t -= lij[a] * d[ca] * lij[b];
@@ -332,10 +297,9 @@ public:
           {
             d[i] = std::sqrt(d[i]);
             invC[i] = static_cast<float>(1.0 / d[i]);
-            const std::int64_t shift = this->FactorShift(outer, i);
             for (std::int64_t kk = this->LPtr[i]; kk < this->LPtr[i + 1]; ++kk)
             {
-              lij[kk] = static_cast<float>(lij[kk] * d[cols[kk + shift]]);
+              lij[kk] = static_cast<float>(lij[kk] * d[this->LCol[kk]]);
             }
           }
         }
@@ -390,8 +354,6 @@ public:
   {
     const int nc = NC > 0 ? NC : ncRun;
     const std::int64_t nBlocks = static_cast<std::int64_t>(this->Blocks.size()) - 1;
-    const int* outer = m.outerIndexPtr();
-    const int* cols = this->FactorColumns(m.innerIndexPtr());
     const float* lVal = this->Work->LVal.data();
     const float* invC = this->Work->InvC.data();
     std::vector<double>& partialSums = this->Work->Partial;
@@ -424,11 +386,10 @@ public:
         s[c] += ri * ri;
         t[c] = ri;
       }
-      const std::int64_t shift = this->FactorShift(outer, i);
       for (std::int64_t kk = this->LPtr[i]; kk < this->LPtr[i + 1]; ++kk)
       {
         const double l = lVal[kk];
-        const S* zj = z.data() + static_cast<std::int64_t>(cols[kk + shift]) * nc;
+        const S* zj = z.data() + static_cast<std::int64_t>(this->LCol[kk]) * nc;
         for (int c = 0; c < nc; ++c)
         {
           t[c] -= l * zj[c];
@@ -456,11 +417,10 @@ public:
         zi[c] = static_cast<S>(t[c]);
         t[c] = zi[c]; // pass on the value stored, as CG will read it
       }
-      const std::int64_t shift = this->FactorShift(outer, i);
       for (std::int64_t kk = this->LPtr[i]; kk < this->LPtr[i + 1]; ++kk)
       {
         const double l = lVal[kk];
-        S* zj = z.data() + static_cast<std::int64_t>(cols[kk + shift]) * nc;
+        S* zj = z.data() + static_cast<std::int64_t>(this->LCol[kk]) * nc;
         for (int c = 0; c < nc; ++c)
         {
           zj[c] = static_cast<S>(zj[c] - l * t[c]);
@@ -706,8 +666,8 @@ public:
   void Memory(ATMemoryParts& parts, const std::string& name) const override
   {
     auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
-    parts.emplace_back(name + ": IC pattern (row starts; columns: the matrix's)",
-      bytes(this->LPtr) + bytes(this->LCol) + bytes(this->DiagOffset) + bytes(this->Blocks));
+    parts.emplace_back(name + ": IC pattern (L columns, row starts)",
+      bytes(this->LPtr) + bytes(this->LCol) + bytes(this->Blocks));
     parts.emplace_back(name +
         (this->WorkOwner ? ": IC factor (C values, 1/C_ii; float; u and v in turn)"
                          : ": IC factor (shared with the u solver)"),
@@ -729,11 +689,9 @@ private:
   std::vector<std::int64_t> Blocks;
   // int like the matrix's own indices (the factor has fewer entries).
   std::vector<int> LPtr;
-  std::vector<int> LCol; // empty when the columns are read in the matrix (Analyze)
-  bool ColumnsInMatrix = false;
+  std::vector<int> LCol;
   double* Scratch = nullptr;
   std::size_t ScratchSize = 0;
-  std::vector<unsigned char> DiagOffset;
   std::shared_ptr<ICWork<S>> Work;
   bool WorkOwner = true;
 };
