@@ -28,6 +28,7 @@
 //   run's u and v (raw doubles, column major) to PREFIX-<volume>.u and .v, to
 //   compare two builds bitwise (cmp); --no-triad skips the STREAM triad.
 #include "dgATOperators.h"
+#include "dgBenchMachine.h"
 #include "dgATSolver.h"
 #include "dgHugePages.h"
 #include "vtkAmbrosioTortorelliFilter.h"
@@ -63,6 +64,10 @@
 #include <string>
 #include <vector>
 
+using dgbench::CpuModel;
+using dgbench::FirstLine;
+using dgbench::MedianOf;
+
 namespace
 {
 using Clock = std::chrono::steady_clock;
@@ -74,27 +79,7 @@ double Seconds(Clock::time_point t0)
 
 namespace
 {
-std::string FirstLine(const char* path)
-{
-  std::ifstream f(path);
-  std::string line;
-  std::getline(f, line);
-  return line;
-}
 
-std::string CpuModel()
-{
-  std::ifstream f("/proc/cpuinfo");
-  for (std::string line; std::getline(f, line);)
-  {
-    if (line.compare(0, 10, "model name") == 0)
-    {
-      const auto c = line.find(':');
-      return c == std::string::npos ? line : line.substr(c + 2);
-    }
-  }
-  return "unknown";
-}
 
 // A "Key:   123 kB" line of /proc/self/status, in MiB (-1 when absent).
 double StatusMiB(const char* key)
@@ -120,12 +105,6 @@ bool ResetPeakRss()
   return f.good();
 }
 
-double MedianOf(std::vector<double> v)
-{
-  std::sort(v.begin(), v.end());
-  const std::size_t h = v.size() / 2;
-  return v.empty() ? 0.0 : v.size() % 2 ? v[h] : 0.5 * (v[h - 1] + v[h]);
-}
 
 // STREAM triad a[i] = b[i] + s c[i] on 3 arrays of n doubles, with
 // vtkSMPTools over the same backend and thread count as the core (and the

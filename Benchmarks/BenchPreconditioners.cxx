@@ -37,6 +37,7 @@
 // BenchPreconditioners.h (what the parts share), BenchPreconditionersCG.cxx
 // (Jacobi, Chebyshev, PCG), BenchPreconditionersAMG.cxx (hypre).
 #include "BenchPreconditioners.h"
+#include "dgBenchMachine.h"
 #include "dgATLinearSystems.h"
 #include "dgATOperators.h"
 #include "dgATSolver.h"
@@ -78,38 +79,8 @@ using namespace dgbench;
 
 namespace
 {
-std::string FirstLine(const char* path)
-{
-  std::ifstream f(path);
-  std::string line;
-  std::getline(f, line);
-  return line;
-}
 
-std::string CpuModel()
-{
-  std::ifstream f("/proc/cpuinfo");
-  for (std::string line; std::getline(f, line);)
-  {
-    if (line.compare(0, 10, "model name") == 0)
-    {
-      const auto c = line.find(':');
-      return c == std::string::npos ? line : line.substr(c + 2);
-    }
-  }
-  return "unknown";
-}
 
-double Median(std::vector<double> v)
-{
-  if (v.empty())
-  {
-    return 0.0;
-  }
-  std::sort(v.begin(), v.end());
-  const std::size_t h = v.size() / 2;
-  return v.size() % 2 ? v[h] : 0.5 * (v[h - 1] + v[h]);
-}
 
 struct Method
 {
@@ -468,7 +439,7 @@ int main(int argc, char* argv[])
         {
           icRef = &t0;
         }
-        const double iters = Median(it);
+        const double iters = MedianOf(it);
         char notes[256] = "";
         if (m == 0)
         {
@@ -498,8 +469,8 @@ int main(int argc, char* argv[])
           ? std::atof(methods[m].ProductsText.c_str())
           : 1.0;
         std::printf("  %-33s %7.0f %7.1f %8.3f %8.3f %8.3f %8.3f %9.3f %9s %8.1f %7.1f %9.3f %s\n",
-          methods[m].Name.c_str(), iters, iters / std::max(1, t0.Solves), Median(setup),
-          Median(solve), Median(copy), Median(total), iters > 0 ? 1e3 * Median(solve) / iters : 0.0,
+          methods[m].Name.c_str(), iters, iters / std::max(1, t0.Solves), MedianOf(setup),
+          MedianOf(solve), MedianOf(copy), MedianOf(total), iters > 0 ? 1e3 * MedianOf(solve) / iters : 0.0,
           methods[m].ProductsText.c_str(),
           methods[m].Name.compare(0, 3, "AMG") == 0 ? iters / std::max(1, t0.Solves)
                                                     : mvPerIt * iters / std::max(1, t0.Solves),
