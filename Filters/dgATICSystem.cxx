@@ -211,11 +211,11 @@ public:
       }
       return 0.0;
     };
-    // Grown only, as the CG vectors (the u- and v-factors take turns).
+    // Shared with the other system (ICWork), grown only, and then
+    // reallocated at the exact size (nothing in them is kept): growing in
+    // place would double the capacity.
     std::vector<float>& lij = this->Work->LVal;
     std::vector<float>& invC = this->Work->InvC;
-    // Reallocated at the exact size (nothing in them is kept): growing in
-    // place would double the capacity.
     if (lij.size() < static_cast<std::size_t>(this->LPtr[n]))
     {
       std::vector<float>().swap(lij);
@@ -339,8 +339,7 @@ public:
   // x is column major (row i, column c at x[c * ld + i]); r, p, q, z are
   // interleaved.
   template<int NC>
-  void UpdateAndPrecondition(const ATSystemView& m,
-    bool update,
+  void UpdateAndPrecondition(bool update,
     const double* alpha,
     double* x,
     std::int64_t ld,
@@ -605,7 +604,7 @@ public:
       }
       if (nActive > 0)
       {
-        this->template UpdateAndPrecondition<NC>(m,
+        this->template UpdateAndPrecondition<NC>(
           false, alpha.data(), x, ld, p, r, q, z, nc, rr.data(), rz.data());
         std::fill(g.begin(), g.end(), 1.0);
         std::fill(h.begin(), h.end(), 0.0);
@@ -624,7 +623,7 @@ public:
         {
           break;
         }
-        this->template UpdateAndPrecondition<NC>(m,
+        this->template UpdateAndPrecondition<NC>(
           true, alpha.data(), x, ld, p, r, q, z, nc, rr.data(), rzNew.data());
         nActive = 0;
         for (int c = 0; c < nc; ++c)
