@@ -248,7 +248,10 @@ public:
   /// The whole schedule: u <- g, v <- 1, then levels of alternating steps.
   /// g is F x C (one row per face). Returns false when aborted or when the
   /// parameters are invalid (see Error()). Solver failures do not stop the
-  /// run: the step keeps the previous values and Warnings() says so.
+  /// run: the step keeps what the linear solver left (IC CG's last iterate,
+  /// no farther from the solution than the previous values; the previous
+  /// values for the other solvers, or when the iterate is not finite) and
+  /// Warnings() says so.
   bool Run(const Eigen::MatrixXd& g, const ATProgressCallback& progress = ATProgressCallback());
   /// The same, taking g instead of copying it (F x C doubles that the caller
   /// would otherwise hold beside the solver's copy; g is left empty or with
