@@ -812,6 +812,21 @@ int main(int argc, char* argv[])
       s / floorSetup, MedianOf(factor), bytesSetup / s / 1e9);
     std::printf("  %-20s u share of the floor %.0f %%, v %.0f %%\n", "",
       100 * tu * vr.U.PerIteration / bytes, 100 * tv * vr.V.PerIteration / bytes);
+    // Each system against its own floor (its CG iterations x its bytes per
+    // iteration / triad): where the solve time goes between the two.
+    std::vector<double> solveU, solveV;
+    for (const auto& x : vr.Runs)
+    {
+      solveU.push_back(x.Stats.SolveU);
+      solveV.push_back(x.Stats.Solve - x.Stats.SolveU);
+    }
+    const double su = MedianOf(solveU), sv = MedianOf(solveV);
+    const double fu = tu * vr.U.PerIteration / (triad * 1e9);
+    const double fv = tv * vr.V.PerIteration / (triad * 1e9);
+    std::printf("  %-20s u-system: solves %.3f s, floor %.3f s, ratio %.2f, %.2f ms per CG "
+                "iteration; v-system: %.3f s, %.3f s, %.2f, %.2f ms\n",
+      "", su, fu, su / fu, 1e3 * su / std::max<std::int64_t>(tu, 1), sv, fv, sv / fv,
+      1e3 * sv / std::max<std::int64_t>(tv, 1));
   }
   if (results.size() >= 3)
   {

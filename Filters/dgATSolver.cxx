@@ -482,12 +482,14 @@ bool ATSolver::StepU()
   this->AssembleU();
   this->Stats.Assembly += Seconds(t0);
   const std::int64_t it0 = this->Stats.CGIterations;
+  const double solve0 = this->Stats.Solve;
   // CG solves in place, so there is no copy of u to go back to: the
   // restore takes g.
   const bool ok = this->SolveSystem(*this->USystem, this->UP.View(this->Values.data()),
     this->URhs(), this->u, "u-step", [this]() { this->RecoverG(this->u); },
     { this->EdgeScratch(), this->EdgeWork.size() });
   this->Stats.CGIterationsU += this->Stats.CGIterations - it0;
+  this->Stats.SolveU += this->Stats.Solve - solve0;
   return ok;
 }
 

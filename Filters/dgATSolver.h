@@ -120,6 +120,7 @@ struct ATStatistics
   double Analysis = 0;      // symbolic analysis / ordering (once per system)
   double Factorization = 0; // numeric factorisation or preconditioner
   double Solve = 0;         // triangular solves or CG iterations
+  double SolveU = 0;        // of which the u-system's
   int Levels = 0;
   int Iterations = 0;             // u-step + v-step pairs, all levels
   std::int64_t CGIterations = 0;  // both systems (one u sweep serves all columns)
