@@ -133,10 +133,15 @@ void Pipeline::Build(vtkImageData* image, vtkAlgorithmOutput* source, const Pipe
   ConfigureAT(this->AT, s);
   this->Stages.push_back({ "Ambrosio-Tortorelli", this->AT });
 
+  // How far the input normals blur a crease: the estimator's radius.
+  const double blur = s.Estimator == "vcm" ? s.VCMConvolutionRadius
+    : s.Estimator == "rht"                 ? s.RHTRadius
+                                           : s.Radius;
   if (s.Sharpen)
   {
     this->Sharp->SetInputConnection(this->AT->GetOutputPort());
     this->Sharp->SetFeatureThreshold(s.FeatureThreshold);
+    this->Sharp->SetInputRadius(blur);
     this->Stages.push_back({ "sharp features", this->Sharp });
   }
   if (this->UseSecondPass())
@@ -148,6 +153,7 @@ void Pipeline::Build(vtkImageData* image, vtkAlgorithmOutput* source, const Pipe
     this->Stages.push_back({ "Ambrosio-Tortorelli 2", this->AT2 });
     this->Sharp2->SetInputConnection(this->AT2->GetOutputPort());
     this->Sharp2->SetFeatureThreshold(s.FeatureThreshold);
+    this->Sharp2->SetInputRadius(blur);
     this->Stages.push_back({ "sharp features 2", this->Sharp2 });
   }
 }

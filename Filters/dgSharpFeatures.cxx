@@ -1,5 +1,7 @@
 #include "dgSharpFeatures.h"
 
+#include "dgSharpFeaturesCreases.h"
+#include "dgSharpFeaturesField.h"
 #include "dgSharpFeaturesGraph.h"
 #include "dgSharpFeaturesRegionFits.h"
 
@@ -34,8 +36,9 @@ struct SearchScratch : BreadthScratch
 
 bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
   const std::vector<std::int64_t>& offsets, const std::vector<std::int64_t>& connectivity,
-  const double* normals, const double* v, const SharpFeatureParameters& par,
-  SharpFeatureResult& result, std::string* error, const std::function<bool(double)>& progress)
+  const double* normals, const double* v, const double* inputNormals,
+  const SharpFeatureParameters& par, SharpFeatureResult& result, std::string* error,
+  const std::function<bool(double)>& progress)
 {
   auto fail = [&](const std::string& m) {
     if (error)
@@ -64,7 +67,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
   graph.Build(offsets, connectivity);
 
   // Face centres, polygon normals (Newell) and unit field normals.
-  std::vector<Vec3> centre(F), polyNormal(F), field(F);
+  std::vector<Vec3> centre(F), polyNormal(F), field(F), input(F);
   vtkSMPTools::For(0, F, [&](std::int64_t b, std::int64_t e) {
     for (std::int64_t f = b; f < e; ++f)
     {
@@ -80,6 +83,9 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       centre[f] = m > 0 ? c * (1.0 / m) : c;
       polyNormal[f] = n.Unit();
       field[f] = Vec3(normals[3 * f], normals[3 * f + 1], normals[3 * f + 2]).Unit();
+      input[f] = inputNormals
+        ? Vec3(inputNormals[3 * f], inputNormals[3 * f + 1], inputNormals[3 * f + 2]).Unit()
+        : field[f];
     }
   });
 
@@ -200,6 +206,9 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
   result.NumberOfBandFaces = static_cast<std::int64_t>(bandFaces.size());
   std::vector<Vec3> out(field);
   std::vector<int> assigned(region);
+  // Per band face that met two sides or more: how far inside the corner the
+  // two sides' models make it lies (> 0: the surface cuts the corner off).
+  std::vector<double> cornerDepth(F, std::numeric_limits<double>::quiet_NaN());
   constexpr int MaximumDepth = 64; // bounds the search inside very wide bands
   vtkSMPThreadLocal<SearchScratch> scratch;
   vtkSMPTools::For(0, static_cast<std::int64_t>(bandFaces.size()), [&](std::int64_t b, std::int64_t e) {
@@ -249,6 +258,8 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       Vec3 chosenN, chosenC;
       double chosenS = 0;
       bool chosenByQuadric = false;
+      bool convexCorner = true;
+      int compared = 0;
       for (const auto& r : s.Samples)
       {
         if (r.Count < support || (anyFacing && r.NormalSum.Dot(polyNormal[f0]) <= 0))
@@ -280,6 +291,8 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
         {
           const double convexity = chosenN.Dot(local - chosenC) + n.Dot(chosenC - local);
           take = convexity < 0 ? sd > chosenS : sd < chosenS;
+          convexCorner = convexity < 0;
+          ++compared;
         }
         if (take)
         {
@@ -293,6 +306,8 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       if (chosen)
       {
         assigned[f0] = chosen->Region;
+        if (compared > 0)
+          cornerDepth[f0] = convexCorner ? -chosenS : chosenS;
         out[f0] = par.FitPlanes ? chosen->PlaneNormal(maxResidual2) : chosenN;
         // A side that decided with its quadric (above) gives the quadric's
         // normal at the face: the local plane through curved samples a few
@@ -651,6 +666,51 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
     }
   }
 
+  // 7. Creases and bends (dgSharpFeaturesCreases.h): every line left
+  // between two merged parts is tested against the input normals beyond
+  // their blur and against the corner its sides make. AT's normals jump
+  // across its false lines on curved parts as much as across real edges,
+  // so from here on only this test's creases keep parts apart; bends merge
+  // smallest jump first (a sliver cut off a curved part joins the side it
+  // continues before the side across a crease can reach it through it).
+  {
+    std::vector<int> group(F, -1);
+    for (std::int64_t f = 0; f < F; ++f)
+      if (assigned[f] >= 0)
+        group[f] = uf.Find(assigned[f]);
+    CreaseTestSettings cs;
+    cs.Near = 0.75 * par.InputRadius * meanEdge2;
+    cs.Far = cs.Near + 5.0 * meanEdge2;
+    cs.MinimumAngle = par.MinimumFeatureAngle;
+    cs.CornerDepth = par.CornerDepth * meanEdge2;
+    cs.EdgeLength = meanEdge2;
+    const std::vector<CreaseVerdict> verdicts =
+      TestCreases(graph, centre, input, group, cornerDepth, cs);
+    for (auto& a : apart)
+      a.clear();
+    std::vector<std::pair<double, std::pair<int, int>>> bends;
+    for (const CreaseVerdict& c : verdicts)
+    {
+      if (c.Crease)
+      {
+        apart[c.A].push_back(c.B);
+        apart[c.B].push_back(c.A);
+        ++result.NumberOfCreases;
+      }
+      else
+      {
+        bends.push_back({ std::isnan(c.Jump) ? -1.0 : c.Jump, { c.A, c.B } });
+      }
+    }
+    std::sort(bends.begin(), bends.end());
+    for (const auto& b : bends)
+    {
+      const int ra = uf.Find(b.second.first), rb = uf.Find(b.second.second);
+      if (ra != rb && unite(ra, rb))
+        ++result.NumberOfBends;
+    }
+  }
+
   // Renumber the merged regions in order of first appearance.
   std::vector<int> relabel(regions, -1);
   result.Region.assign(F, -1);
@@ -713,6 +773,78 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       result.FeatureEdges.push_back(graph.Edges[e]);
       result.FeatureAngle.push_back(angle);
     }
+  }
+  // 8. The output field (dgSharpFeaturesField.h): AT's u-step with v fixed
+  // to the kept creases, on the input normals, or the side normals found
+  // above within SearchDepth of a crease, where the input blends the two
+  // sides. Its data weight follows the noise the surface shows: the share
+  // of faces that face away from their input normal (a voxel face turned
+  // more than 90 degrees from the surface), 0 on a clean digital surface of
+  // any shape and 0.22-0.23 at the paper's noise k = 0.3.
+  if (inputNormals && par.FieldAlpha >= 0)
+  {
+    double alpha = par.FieldAlpha;
+    if (alpha == 0)
+    {
+      std::int64_t away = 0;
+      for (std::int64_t f = 0; f < F; ++f)
+        away += polyNormal[f].Dot(input[f]) < 0;
+      result.NoiseShare = static_cast<double>(away) / static_cast<double>(F);
+      alpha = std::pow(0.05, std::min(1.5, result.NoiseShare / 0.22));
+    }
+    result.FieldAlpha = alpha;
+    std::vector<int> steps(F, -1);
+    std::vector<std::int64_t> queue;
+    for (std::int64_t e = 0; e < E; ++e)
+    {
+      bool feature = false;
+      for (std::int64_t a = graph.EdgeFacePtr[e]; a < graph.EdgeFacePtr[e + 1]; ++a)
+        for (std::int64_t b = a + 1; b < graph.EdgeFacePtr[e + 1]; ++b)
+        {
+          const int ra = result.Region[graph.EdgeFaces[a]], rb = result.Region[graph.EdgeFaces[b]];
+          feature |= ra >= 0 && rb >= 0 && ra != rb;
+        }
+      if (feature)
+        for (std::int64_t a = graph.EdgeFacePtr[e]; a < graph.EdgeFacePtr[e + 1]; ++a)
+          if (steps[graph.EdgeFaces[a]] < 0)
+          {
+            steps[graph.EdgeFaces[a]] = 0;
+            queue.push_back(graph.EdgeFaces[a]);
+          }
+    }
+    for (std::size_t h = 0; h < queue.size(); ++h)
+    {
+      const std::int64_t f = queue[h];
+      if (steps[f] >= par.SearchDepth)
+        continue;
+      for (std::int64_t k = graph.FaceEdgePtr[f]; k < graph.FaceEdgePtr[f + 1]; ++k)
+      {
+        const std::int64_t e = graph.FaceEdges[k];
+        for (std::int64_t j = graph.EdgeFacePtr[e]; j < graph.EdgeFacePtr[e + 1]; ++j)
+        {
+          const std::int64_t g = graph.EdgeFaces[j];
+          if (steps[g] < 0)
+          {
+            steps[g] = steps[f] + 1;
+            queue.push_back(g);
+          }
+        }
+      }
+    }
+    std::vector<double> data(3 * F), solved;
+    for (std::int64_t f = 0; f < F; ++f)
+    {
+      const Vec3 d = steps[f] >= 0 ? out[f] : input[f];
+      data[3 * f] = d.x;
+      data[3 * f + 1] = d.y;
+      data[3 * f + 2] = d.z;
+    }
+    std::string fieldError;
+    if (!SolveFieldWithCreases(numberOfPoints, offsets, connectivity, result.FeatureEdges, data,
+          alpha, solved, &fieldError))
+      return fail(fieldError);
+    for (std::int64_t f = 0; f < F; ++f)
+      out[f] = Vec3(solved[3 * f], solved[3 * f + 1], solved[3 * f + 2]);
   }
   result.Normals.resize(3 * F);
   for (std::int64_t f = 0; f < F; ++f)

@@ -75,6 +75,11 @@ struct SharpFeatureParameters
   double QuadricMergeFactor = 3.0; // a medium boundary merges when the smaller side lies on the
                                    // larger's quadric within this factor of its own RMS (0: never)
   double QuadricMergeDistance = 3.0; // edge lengths: ... and within this RMS distance
+  double InputRadius = 4.0;  // edge lengths: how far the input normals blur a crease (II's radius)
+  double CornerDepth = 0.6;  // edge lengths: a line whose band faces lie deeper inside the
+                             // corner of its two sides is a bend (a fillet), not a crease
+  double FieldAlpha = 0.0;   // data weight of the output field; 0: from the noise the surface
+                             // shows; < 0: no field (the side and region normals as they are)
 };
 
 struct SharpFeatureResult
@@ -92,6 +97,10 @@ struct SharpFeatureResult
   int NumberOfQuadricRegions = 0;           // regions whose whole quadric may decide their sides
   int NumberOfRefusedMerges = 0;            // weak boundaries left as lines: a strong one lies between
   int NumberOfQuadricMerges = 0;            // medium boundaries merged: one side on the other's quadric
+  int NumberOfCreases = 0;                  // lines kept by the crease test
+  int NumberOfBends = 0;                    // lines merged by it
+  double NoiseShare = 0;                    // faces turned away from their input normal
+  double FieldAlpha = 0;                    // the output field's data weight (0: no field)
 };
 
 /// points: 3 per point; normals: 3 per face (need not be unit; zero vectors
@@ -100,7 +109,8 @@ struct SharpFeatureResult
 /// fraction in [0, 1] and returns false to abort (then false, error empty).
 bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
   const std::vector<std::int64_t>& offsets, const std::vector<std::int64_t>& connectivity,
-  const double* normals, const double* v, const SharpFeatureParameters& parameters,
+  const double* normals, const double* v, const double* inputNormals,
+  const SharpFeatureParameters& parameters,
   SharpFeatureResult& result, std::string* error = nullptr,
   const std::function<bool(double)>& progress = {});
 

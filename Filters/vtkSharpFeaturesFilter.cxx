@@ -106,6 +106,9 @@ int vtkSharpFeaturesFilter::RequestData(
   par.QuadricMergeFactor = this->QuadricMergeFactor;
   par.QuadricMergeDistance = this->QuadricMergeDistance;
   par.RegionEdgeAngle = this->RegionEdgeAngle;
+  par.InputRadius = this->InputRadius;
+  par.CornerDepth = this->CornerDepth;
+  par.FieldAlpha = this->FieldAlpha;
   std::string problem;
   if (!(par.FeatureThreshold > 0 && par.FeatureThreshold < 1))
     problem += " FeatureThreshold must be in (0, 1).";
@@ -133,6 +136,12 @@ int vtkSharpFeaturesFilter::RequestData(
     problem += " ReferenceWeight must be in (0, 1].";
   if (!(par.RegionEdgeAngle > 0 && par.RegionEdgeAngle <= 180))
     problem += " RegionEdgeAngle must be in (0, 180].";
+  if (!(par.InputRadius > 0 && par.InputRadius <= 1000))
+    problem += " InputRadius must be in (0, 1000].";
+  if (!(par.CornerDepth > 0))
+    problem += " CornerDepth must be > 0.";
+  if (!std::isfinite(par.FieldAlpha))
+    problem += " FieldAlpha must be finite.";
   if (!problem.empty())
   {
     vtkErrorMacro("Invalid parameters:" << problem);
@@ -221,6 +230,53 @@ int vtkSharpFeaturesFilter::RequestData(
       vtkErrorMacro("The feature indicator '" << indicator->GetName() << "' has NaN values.");
       return 0;
     }
+  // The input estimator's normals (AT's own input): the crease test reads
+  // them beyond their blur, and where the stage finds no crease the output
+  // field follows them (docs/sharp-features.md, steps 7 and 8).
+  std::vector<double> inputField;
+  {
+    vtkDataArray* in = nullptr;
+    if (!this->InputNormalsName.empty())
+    {
+      in = input->GetCellData()->GetArray(this->InputNormalsName.c_str());
+      if (!in)
+      {
+        vtkErrorMacro("No input normal field: the input has no cell array named '"
+          << this->InputNormalsName << "' (InputNormalsName).");
+        return 0;
+      }
+    }
+    for (const char* name : { "IINormals", "VCMNormals", "RHTNormals" })
+      if (!in)
+        in = input->GetCellData()->GetArray(name);
+    if (in && in->GetNumberOfComponents() != 3)
+    {
+      vtkErrorMacro("The input normal field '" << (in->GetName() ? in->GetName() : "")
+                                                << "' must have 3 components.");
+      return 0;
+    }
+    if (in)
+    {
+      inputField.resize(3 * nFaces);
+      const auto nt = vtk::DataArrayTupleRange<3>(in);
+      for (vtkIdType f = 0; f < nFaces; ++f)
+        for (int c = 0; c < 3; ++c)
+        {
+          inputField[3 * f + c] = static_cast<double>(nt[polyOffset + f][c]);
+          if (!std::isfinite(inputField[3 * f + c]))
+          {
+            vtkErrorMacro("The input normal field '" << in->GetName() << "' has NaN or infinite values.");
+            return 0;
+          }
+        }
+    }
+    else
+    {
+      vtkWarningMacro("No input normal field (IINormals, VCMNormals or RHTNormals; "
+                      "InputNormalsName): the crease test reads the regularised normals and "
+                      "the output field is not solved.");
+    }
+  }
   std::vector<std::int64_t> offsets(nFaces + 1), connectivity(polys->GetNumberOfConnectivityIds());
   {
     const auto off = vtk::DataArrayValueRange<1>(polys->GetOffsetsArray());
@@ -233,7 +289,7 @@ int vtkSharpFeaturesFilter::RequestData(
   dg::SharpFeatureResult res;
   std::string error;
   const bool ok = dg::ComputeSharpFeatures(nPoints, xyz.data(), offsets, connectivity, g.data(),
-    v.data(), par, res, &error, [this](double f) {
+    v.data(), inputField.empty() ? nullptr : inputField.data(), par, res, &error, [this](double f) {
       this->UpdateProgress(0.05 + 0.9 * f);
       return !this->GetAbortExecute();
     });
@@ -250,6 +306,10 @@ int vtkSharpFeaturesFilter::RequestData(
   this->NumberOfPlanarRegions = res.NumberOfPlanarRegions;
   this->NumberOfQuadricRegions = res.NumberOfQuadricRegions;
   this->NumberOfQuadricMerges = res.NumberOfQuadricMerges;
+  this->NumberOfCreases = res.NumberOfCreases;
+  this->NumberOfBends = res.NumberOfBends;
+  this->NoiseShare = res.NoiseShare;
+  this->UsedFieldAlpha = res.FieldAlpha;
 
   output->ShallowCopy(input);
   vtkNew<vtkDoubleArray> sharp;
@@ -322,6 +382,14 @@ void vtkSharpFeaturesFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "QuadricMergeDistance: " << this->QuadricMergeDistance << "\n";
   os << indent << "NumberOfQuadricMerges: " << this->NumberOfQuadricMerges << "\n";
   os << indent << "RegionEdgeAngle: " << this->RegionEdgeAngle << "\n";
+  os << indent << "InputNormalsName: " << (this->InputNormalsName.empty() ? "(automatic)" : this->InputNormalsName) << "\n";
+  os << indent << "InputRadius: " << this->InputRadius << "\n";
+  os << indent << "CornerDepth: " << this->CornerDepth << "\n";
+  os << indent << "FieldAlpha: " << this->FieldAlpha << "\n";
+  os << indent << "NumberOfCreases: " << this->NumberOfCreases << "\n";
+  os << indent << "NumberOfBends: " << this->NumberOfBends << "\n";
+  os << indent << "NoiseShare: " << this->NoiseShare << "\n";
+  os << indent << "UsedFieldAlpha: " << this->UsedFieldAlpha << "\n";
   os << indent << "NumberOfBandFaces: " << this->NumberOfBandFaces << "\n";
   os << indent << "NumberOfUnassignedFaces: " << this->NumberOfUnassignedFaces << "\n";
   os << indent << "NumberOfRegions: " << this->NumberOfRegions << "\n";

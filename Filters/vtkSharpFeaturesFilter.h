@@ -25,7 +25,19 @@
  *   the two sides of a boundary of StrongFeatureAngle or more; then those
  *   below StrongFeatureAngle whose smaller side lies on the larger side's
  *   quadric (QuadricMergeFactor);
- * - the feature lines are the edges between faces of different regions.
+ * - every line left between two merged regions is tested: a crease keeps
+ *   its line, a bend (a fillet, a tube, AT's terraces on a curved part)
+ *   merges its sides. The input estimator's normals (IINormals,
+ *   VCMNormals or RHTNormals, or InputNormalsName), fitted on each side
+ *   beyond 0.75 InputRadius from the line and extrapolated to it, must jump
+ *   by MinimumFeatureAngle more than the sides' own curvature and the
+ *   fits' noise explain, and the band's voxels must reach the corner the two
+ *   sides make (within CornerDepth);
+ * - the feature lines are the edges between faces of different regions;
+ * - the output normals are Ambrosio-Tortorelli's u-step with v fixed to
+ *   the kept lines: the input normals smoothed up to the lines, the side
+ *   normals within SearchDepth of them as data, with a data weight that
+ *   follows the noise the surface shows (FieldAlpha).
  *
  * Input: a vtkPolyData with polygons, a cell normal field (array 0 of
  * SetInputArrayToProcess, default "ATNormals") and a point feature indicator
@@ -54,6 +66,7 @@
 #include "vtkPolyDataAlgorithm.h"
 
 #include <memory>
+#include <string>
 
 class VTKDIGITALGEOMETRY_EXPORT vtkSharpFeaturesFilter : public vtkPolyDataAlgorithm
 {
@@ -268,6 +281,72 @@ public:
   vtkGetMacro(RegionEdgeAngle, double);
   ///@}
 
+  ///@{
+  /**
+   * The cell array of the input estimator's normals, which the crease test
+   * and the output field read. Default "" (automatic): IINormals, else
+   * VCMNormals, else RHTNormals (vtkAmbrosioTortorelliFilter passes its
+   * input's arrays on). A name that is not on the input is an error;
+   * without any, a warning, and the stage reads the regularised normals
+   * instead and solves no output field.
+   */
+  void SetInputNormalsName(const std::string& name)
+  {
+    if (name != this->InputNormalsName)
+    {
+      this->InputNormalsName = name;
+      this->Modified();
+    }
+  }
+  void SetInputNormalsName(const char* name) { this->SetInputNormalsName(std::string(name ? name : "")); }
+  const char* GetInputNormalsName() const { return this->InputNormalsName.c_str(); }
+  ///@}
+
+  ///@{
+  /**
+   * How far the input normals blur a crease (grid units, > 0): the
+   * estimator's radius (vtkIINormalEstimator's Radius; the program sets it
+   * from its estimator). The crease test fits each side's input normals
+   * between 0.75 and 0.75 InputRadius + 5 edge lengths from the line.
+   * Default 4, II's default.
+   */
+  vtkSetMacro(InputRadius, double);
+  vtkGetMacro(InputRadius, double);
+  ///@}
+
+  ///@{
+  /**
+   * A line whose band faces lie deeper than this inside the corner its two
+   * sides make (edge lengths, > 0, default 0.6) is a bend: the voxels of a
+   * fillet cut the corner off by 0.29 R at 90 degrees (1.2 edges at R = 4),
+   * those of a crease reach it (medians -0.2 to 0.3, clean and at the
+   * paper's noise k = 0.3).
+   */
+  vtkSetMacro(CornerDepth, double);
+  vtkGetMacro(CornerDepth, double);
+  ///@}
+
+  ///@{
+  /**
+   * The output field's data weight (AT's alpha for its u-step with v fixed
+   * to the kept lines). Default 0: from the noise the surface shows, the
+   * share s of faces turned more than 90 degrees from their input normal
+   * (0 clean, 0.22 at the paper's k = 0.3): alpha = 0.05^min(1.5, s / 0.22),
+   * 1 on a clean surface (the input normals nearly as they are) down to
+   * 0.05 at k = 0.3. > 0: that weight. < 0: no field (the side and region
+   * normals, as before the field existed).
+   */
+  vtkSetMacro(FieldAlpha, double);
+  vtkGetMacro(FieldAlpha, double);
+  ///@}
+
+  /// Lines the crease test kept and merged, the noise share and the data
+  /// weight the last execution used (0: no field).
+  vtkGetMacro(NumberOfCreases, int);
+  vtkGetMacro(NumberOfBends, int);
+  vtkGetMacro(NoiseShare, double);
+  vtkGetMacro(UsedFieldAlpha, double);
+
   /**
    * Figures of the last execution: band faces, band faces that met no
    * region (they keep their input normal), regions after merging.
@@ -305,6 +384,14 @@ protected:
   double QuadricMergeDistance = 3.0;
   int NumberOfQuadricMerges = 0;
   double RegionEdgeAngle = 10.0;
+  std::string InputNormalsName;
+  double InputRadius = 4.0;
+  double CornerDepth = 0.6;
+  double FieldAlpha = 0.0;
+  int NumberOfCreases = 0;
+  int NumberOfBends = 0;
+  double NoiseShare = 0.0;
+  double UsedFieldAlpha = 0.0;
   vtkIdType NumberOfBandFaces = 0;
   vtkIdType NumberOfUnassignedFaces = 0;
   int NumberOfRegions = 0;

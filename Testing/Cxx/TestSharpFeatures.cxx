@@ -106,7 +106,7 @@ TEST(SharpFeaturesCore, FoldGivesOneLineAndExactSideNormals)
     dg::SharpFeatureResult r;
     std::string error;
     ASSERT_TRUE(dg::ComputeSharpFeatures(static_cast<std::int64_t>(v.size()), s.Points.data(),
-      s.Offsets, s.Connectivity, g.data(), v.data(), dg::SharpFeatureParameters(), r, &error))
+      s.Offsets, s.Connectivity, g.data(), v.data(), nullptr, dg::SharpFeatureParameters(), r, &error))
       << error;
     EXPECT_EQ(r.NumberOfRegions, 2) << angle;
     // One line: the 12 edges of the fold, all on x = fold.
@@ -152,7 +152,7 @@ TEST(SharpFeaturesCore, FalseBandOnAFlatSheetGivesNoLine)
   dg::SharpFeatureResult r;
   std::string error;
   ASSERT_TRUE(dg::ComputeSharpFeatures(static_cast<std::int64_t>(v.size()), s.Points.data(),
-    s.Offsets, s.Connectivity, g.data(), v.data(), dg::SharpFeatureParameters(), r, &error))
+    s.Offsets, s.Connectivity, g.data(), v.data(), nullptr, dg::SharpFeatureParameters(), r, &error))
     << error;
   EXPECT_EQ(r.FeatureEdges.size(), 0u);
   EXPECT_EQ(r.NumberOfRegions, 1);
@@ -223,7 +223,7 @@ TEST(SharpFeaturesCore, FlattenedCapOnASphereMergesOnTheQuadric)
         offsets,
         connectivity,
         g.data(),
-        v.data(),
+        v.data(), nullptr,
         par,
         r,
         &error))
@@ -311,7 +311,7 @@ TEST(SharpFeaturesCore, HoleWallCutIntoStripsMergesOnTheMergedQuadric)
     dg::SharpFeatureResult r;
     std::string error;
     ASSERT_TRUE(dg::ComputeSharpFeatures(static_cast<std::int64_t>(v.size()), points.data(),
-      offsets, connectivity, g.data(), v.data(), par, r, &error))
+      offsets, connectivity, g.data(), v.data(), nullptr, par, r, &error))
       << error;
     double worst = 0, mean = 0;
     for (std::size_t f = 0; f < wallNormal.size(); ++f)
@@ -420,12 +420,12 @@ TEST(SharpFeaturesCore, RejectsInconsistentInput)
   std::vector<std::int64_t> bad = s.Connectivity;
   bad[3] = 1000;
   EXPECT_FALSE(dg::ComputeSharpFeatures(static_cast<std::int64_t>(v.size()), s.Points.data(),
-    s.Offsets, bad, g.data(), v.data(), dg::SharpFeatureParameters(), r, &error));
+    s.Offsets, bad, g.data(), v.data(), nullptr, dg::SharpFeatureParameters(), r, &error));
   EXPECT_NE(error.find("point"), std::string::npos) << error;
   dg::SharpFeatureParameters p;
   p.MinimumRegionSize = 0;
   EXPECT_FALSE(dg::ComputeSharpFeatures(static_cast<std::int64_t>(v.size()), s.Points.data(),
-    s.Offsets, s.Connectivity, g.data(), v.data(), p, r, &error));
+    s.Offsets, s.Connectivity, g.data(), v.data(), nullptr, p, r, &error));
 }
 
 // The core's sheet as a vtkPolyData with AT's arrays.

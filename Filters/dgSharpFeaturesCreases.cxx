@@ -1,0 +1,237 @@
+#include "dgSharpFeaturesCreases.h"
+
+#include <vtkSMPThreadLocal.h>
+#include <vtkSMPTools.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <utility>
+
+namespace dg
+{
+namespace sharp
+{
+namespace
+{
+
+constexpr double Degrees = 180.0 / M_PI;
+
+double Median(std::vector<double> x)
+{
+  if (x.empty())
+    return std::numeric_limits<double>::quiet_NaN();
+  std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
+  return x[x.size() / 2];
+}
+
+double Angle(const Vec3& a, const Vec3& b)
+{
+  const double c = a.Unit().Dot(b.Unit());
+  return std::acos(std::max(-1.0, std::min(1.0, c))) * Degrees;
+}
+
+struct FitScratch : BreadthScratch
+{
+  std::vector<std::int64_t> Faces;
+};
+
+// A side's input normals as a linear function of the position, fitted to
+// `faces` and evaluated at x0; the rate at which they turn when moving from
+// the faces towards x0 (per unit length) and the fit's RMS residual.
+struct SideFit
+{
+  Vec3 Normal, Rate;
+  double Residual = 0;
+  bool Valid = false;
+};
+
+SideFit FitSide(const std::vector<std::int64_t>& faces, const std::vector<Vec3>& centre,
+  const std::vector<Vec3>& input, const Vec3& x0)
+{
+  SideFit out;
+  Vec3 xbar;
+  for (std::int64_t f : faces)
+    xbar += centre[f];
+  xbar = xbar * (1.0 / faces.size());
+  Eigen::Matrix4d ata = Eigen::Matrix4d::Zero();
+  Eigen::Matrix<double, 4, 3> atb = Eigen::Matrix<double, 4, 3>::Zero();
+  for (std::int64_t f : faces)
+  {
+    const Vec3 d = centre[f] - xbar;
+    const Eigen::Vector4d m(1.0, d.x, d.y, d.z);
+    ata += m * m.transpose();
+    atb += m * Eigen::RowVector3d(input[f].x, input[f].y, input[f].z);
+  }
+  // A small ridge on the slopes: the faces barely spread along the normal.
+  const double ridge = 1e-3 * (ata(1, 1) + ata(2, 2) + ata(3, 3));
+  for (int k = 1; k < 4; ++k)
+    ata(k, k) += ridge;
+  Eigen::LDLT<Eigen::Matrix4d> ldlt(ata);
+  if (ldlt.info() != Eigen::Success)
+    return out;
+  const Eigen::Matrix<double, 4, 3> coef = ldlt.solve(atb);
+  auto at = [&](const Vec3& x) {
+    const Vec3 d = x - xbar;
+    const Eigen::RowVector3d u = Eigen::RowVector4d(1.0, d.x, d.y, d.z) * coef;
+    return Vec3(u(0), u(1), u(2));
+  };
+  out.Normal = at(x0);
+  if (!(out.Normal.Norm() > 0) || !std::isfinite(out.Normal.Norm()))
+    return out;
+  const Vec3 n = out.Normal.Unit();
+  const Vec3 d = x0 - xbar;
+  const Vec3 towards = (d - n * d.Dot(n)).Unit();
+  const Eigen::Vector3d rate =
+    coef.block<3, 3>(1, 0).transpose() * Eigen::Vector3d(towards.x, towards.y, towards.z);
+  out.Rate = Vec3(rate(0), rate(1), rate(2));
+  double r2 = 0;
+  for (std::int64_t f : faces)
+  {
+    const Vec3 e = input[f] - at(centre[f]);
+    r2 += e.Dot(e);
+  }
+  out.Residual = std::sqrt(r2 / faces.size()) * Degrees;
+  out.Valid = true;
+  return out;
+}
+
+} // namespace
+
+std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector<Vec3>& centre,
+  const std::vector<Vec3>& input, const std::vector<int>& group,
+  const std::vector<double>& cornerDepth, const CreaseTestSettings& settings)
+{
+  const std::int64_t F = static_cast<std::int64_t>(group.size());
+  struct Edge
+  {
+    std::int64_t A, B; // A's group < B's group
+  };
+  std::map<std::pair<int, int>, std::vector<Edge>> lines;
+  const std::int64_t E = static_cast<std::int64_t>(graph.Edges.size());
+  for (std::int64_t e = 0; e < E; ++e)
+    for (std::int64_t a = graph.EdgeFacePtr[e]; a < graph.EdgeFacePtr[e + 1]; ++a)
+      for (std::int64_t b = a + 1; b < graph.EdgeFacePtr[e + 1]; ++b)
+      {
+        std::int64_t fa = graph.EdgeFaces[a], fb = graph.EdgeFaces[b];
+        if (group[fa] < 0 || group[fb] < 0 || group[fa] == group[fb])
+          continue;
+        if (group[fa] > group[fb])
+          std::swap(fa, fb);
+        lines[{ group[fa], group[fb] }].push_back({ fa, fb });
+      }
+
+  // Per line: every face within Far of it (nearest line face in face steps)
+  // knows its side and its distance to that face; the arrays are reset
+  // after each line, so the work is the faces near the lines.
+  std::vector<std::int64_t> seedOf(F, -1);
+  std::vector<signed char> side(F, 0);
+  std::vector<float> distance(F, -1.0f);
+  std::vector<std::int64_t> reached;
+  std::vector<SideFit> fits(F);
+  vtkSMPThreadLocal<FitScratch> scratch;
+  std::vector<CreaseVerdict> verdicts;
+  // A face is searched within this many steps for its side's fit faces.
+  const int steps = static_cast<int>(std::ceil(1.5 * settings.Far)) + 2;
+  for (const auto& line : lines)
+  {
+    const int ga = line.first.first;
+    reached.clear();
+    for (const Edge& be : line.second)
+      for (std::int64_t f : { be.A, be.B })
+        if (seedOf[f] < 0)
+        {
+          seedOf[f] = f;
+          side[f] = group[f] == ga ? 1 : -1;
+          distance[f] = 0.0f;
+          reached.push_back(f);
+        }
+    const std::vector<std::int64_t> seeds(reached);
+    for (std::size_t h = 0; h < reached.size(); ++h)
+    {
+      const std::int64_t f = reached[h];
+      if (distance[f] > settings.Far + settings.EdgeLength)
+        continue;
+      for (std::int64_t k = graph.FaceEdgePtr[f]; k < graph.FaceEdgePtr[f + 1]; ++k)
+      {
+        const std::int64_t e = graph.FaceEdges[k];
+        for (std::int64_t j = graph.EdgeFacePtr[e]; j < graph.EdgeFacePtr[e + 1]; ++j)
+        {
+          const std::int64_t g = graph.EdgeFaces[j];
+          if (seedOf[g] >= 0)
+            continue;
+          seedOf[g] = seedOf[f];
+          side[g] = side[f];
+          distance[g] = static_cast<float>((centre[g] - centre[seedOf[f]]).Norm());
+          reached.push_back(g);
+        }
+      }
+    }
+    vtkSMPTools::For(0, static_cast<std::int64_t>(seeds.size()), [&](std::int64_t b, std::int64_t e) {
+      FitScratch& s = scratch.Local();
+      for (std::int64_t i = b; i < e; ++i)
+      {
+        const std::int64_t f0 = seeds[i];
+        s.Faces.clear();
+        Breadth(graph, s, f0, steps, [&](std::int64_t g) { return seedOf[g] >= 0; },
+          [&](std::int64_t f, int, int limit) {
+            if (side[f] == side[f0] && distance[f] >= settings.Near && distance[f] <= settings.Far)
+              s.Faces.push_back(f);
+            return limit;
+          });
+        fits[f0] = static_cast<int>(s.Faces.size()) >= settings.MinimumFit
+          ? FitSide(s.Faces, centre, input, centre[f0])
+          : SideFit();
+      }
+    });
+
+    CreaseVerdict v;
+    v.A = line.first.first;
+    v.B = line.first.second;
+    v.Edges = static_cast<int>(line.second.size());
+    std::vector<double> jumps, rateA, rateB, residuals, depths;
+    for (const Edge& be : line.second)
+    {
+      const SideFit &a = fits[be.A], &b = fits[be.B];
+      if (!a.Valid || !b.Valid)
+        continue;
+      jumps.push_back(Angle(a.Normal, b.Normal));
+      // How fast each side turns towards the other as it nears the line.
+      const Vec3 j = (b.Normal.Unit() - a.Normal.Unit()).Unit();
+      rateA.push_back(a.Rate.Dot(j) * Degrees);
+      rateB.push_back(-b.Rate.Dot(j) * Degrees);
+    }
+    for (std::int64_t f : seeds)
+    {
+      if (fits[f].Valid)
+        residuals.push_back(fits[f].Residual);
+      if (std::isfinite(cornerDepth[f]))
+        depths.push_back(cornerDepth[f]);
+    }
+    v.Jump = Median(jumps);
+    v.Depth = Median(depths);
+    const double curvature = jumps.empty()
+      ? 0.0
+      : std::max(0.0, std::max(Median(rateA), Median(rateB))) * settings.Near;
+    v.Allowance = curvature + settings.NoiseFactor * (residuals.empty() ? 0.0 : Median(residuals));
+    const bool deep =
+      static_cast<int>(depths.size()) >= settings.MinimumSamples && v.Depth > settings.CornerDepth;
+    v.Crease = static_cast<int>(jumps.size()) >= settings.MinimumSamples && !deep &&
+      v.Jump >= settings.MinimumAngle + v.Allowance;
+    verdicts.push_back(v);
+    for (std::int64_t f : reached)
+    {
+      seedOf[f] = -1;
+      side[f] = 0;
+      distance[f] = -1.0f;
+    }
+  }
+  return verdicts;
+}
+
+} // namespace sharp
+} // namespace dg

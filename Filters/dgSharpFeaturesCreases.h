@@ -1,0 +1,63 @@
+// Crease or bend: the sharp-features stage's test of every line left
+// between two smooth parts (docs/sharp-features.md, step 7). Internal to
+// that stage.
+//
+// The input estimator's normals blur a crease over its radius but follow a
+// bend exactly. So each side's input normal field is fitted (linearly in
+// the position) on that side's faces between Near and Far from the line,
+// beyond most of the blur, and extrapolated to the line: across a crease the
+// two extrapolations differ by its dihedral angle, across a bend they agree
+// but for what the fits cannot follow (a change of curvature within Near,
+// noise). A line is a crease when the median jump along it exceeds the
+// minimum angle by more than
+//  - what the more curved side's turn towards the other side, continued
+//    over Near, could explain, and
+//  - NoiseFactor times the fits' RMS residual,
+// and when the surface reaches the corner its two sides make (the band
+// faces' corner depth below CornerDepth): a fillet swallowed by AT's band
+// leaves sides that meet at a steep angle, but its voxels cut the corner off.
+#ifndef dgSharpFeaturesCreases_h
+#define dgSharpFeaturesCreases_h
+
+#include "dgSharpFeaturesGraph.h"
+
+#include <vector>
+
+namespace dg
+{
+namespace sharp
+{
+
+struct CreaseTestSettings
+{
+  double Near = 3, Far = 8;   // distances to the line of the faces fitted (lengths)
+  double MinimumAngle = 15;   // degrees
+  double CornerDepth = 0.6;   // length; deeper cuts are bends
+  double NoiseFactor = 0.5;   // times the fits' RMS residual (degrees)
+  int MinimumSamples = 5;     // boundary edges with both extrapolations
+  int MinimumFit = 12;        // faces per side fit
+  double EdgeLength = 1;      // the mesh's mean edge length
+};
+
+struct CreaseVerdict
+{
+  int A = -1, B = -1;  // the two groups
+  bool Crease = false; // else a bend (or too little evidence of a crease)
+  double Jump = 0;     // median extrapolated jump (degrees; NaN without samples)
+  double Allowance = 0; // what curvature and noise could explain (degrees)
+  double Depth = 0;     // median corner depth (length; NaN without samples)
+  int Edges = 0;
+};
+
+/// group: per face, its smooth part (-1: none); centre, input: per face,
+/// its centre and unit input normal; cornerDepth: per face, how far inside
+/// the corner of its two nearest sides it lies (NaN when not measured).
+/// One verdict per pair of groups that share an edge, in (A, B) order.
+std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector<Vec3>& centre,
+  const std::vector<Vec3>& input, const std::vector<int>& group,
+  const std::vector<double>& cornerDepth, const CreaseTestSettings& settings);
+
+} // namespace sharp
+} // namespace dg
+
+#endif
