@@ -74,19 +74,22 @@ set(CPACK_PACKAGE_VENDOR "DigitalGeometry contributors")
 set(CPACK_PACKAGE_VERSION "${PROJECT_VERSION}")
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY
   "Digital-surface normals with the Ambrosio-Tortorelli method (VTK module, Python, ParaView plugin, program)")
-set(CPACK_PACKAGE_CONTACT "DigitalGeometry maintainers <maintainers@users.noreply.github.com>")
+set(DG_PACKAGE_CONTACT "DigitalGeometry maintainers <digitalgeometry@localhost>" CACHE STRING
+  "The .deb's Maintainer field (whoever builds and distributes the package)")
+set(CPACK_PACKAGE_CONTACT "${DG_PACKAGE_CONTACT}")
 set(CPACK_RESOURCE_FILE_LICENSE "${PROJECT_SOURCE_DIR}/LICENSE")
 set(CPACK_GENERATOR "DEB")
 set(CPACK_PACKAGING_INSTALL_PREFIX "/usr")
 set(CPACK_STRIP_FILES ON)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION "science")
+# CPack indents the lines itself (one space).
 set(CPACK_DEBIAN_PACKAGE_DESCRIPTION
   "Digital surfaces of segmented volumes, integral-invariant, VCM and RHT normals,
- Ambrosio-Tortorelli piecewise-smooth normals and sharp features
- (Coeurjolly, Foare, Gueth, Lachaud, Computer Graphics Forum 35(7), 2016):
- a VTK module (C++ headers and CMake package), its Python package
- digitalgeometry, a ParaView plugin and the program piecewise-normals.")
+Ambrosio-Tortorelli piecewise-smooth normals and sharp features
+(Coeurjolly, Foare, Gueth, Lachaud, Computer Graphics Forum 35(7), 2016):
+a VTK module (C++ headers and CMake package), its Python package
+digitalgeometry, a ParaView plugin and the program piecewise-normals.")
 # The module is built against ParaView 5.11's VTK: Debian 12's paraview
 # packages carry it (libvtk*-pv5.11), python3-paraview its vtkmodules.
 # The libraries' packages (paraview for libvtk*-pv5.11, libc, libstdc++,
@@ -104,5 +107,6 @@ if(DG_PYTHON_AVAILABLE)
   list(APPEND _dg_deb_depends "python3-paraview (>= 5.11)" "python3-paraview (<< 5.12~)" "python3")
 endif()
 string(REPLACE ";" ", " CPACK_DEBIAN_PACKAGE_DEPENDS "${_dg_deb_depends}")
-set(CPACK_DEBIAN_PACKAGE_SUGGESTS "paraview-dev, libeigen3-dev")
+# To build against the installed CMake package (ParaView's VTK config).
+set(CPACK_DEBIAN_PACKAGE_SUGGESTS "paraview-dev")
 include(CPack)
