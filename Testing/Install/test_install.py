@@ -4,6 +4,7 @@ temporary prefix (each case its own), then one of
   cxx      an external CMake project (Testing/Install/consumer) finds the
            package with find_package(DigitalGeometry), builds and runs the
            pipeline on a generated ball;
+  buildtree  the same project against the build tree (no install);
   python   /usr/bin/python3 imports the package with only the prefix's
            Python directory on PYTHONPATH, runs a filter, reads __version__;
   plugin   pvpython loads the installed plugin by PV_PLUGIN_PATH (autoload)
@@ -88,14 +89,19 @@ def case_cxx():
     text = "".join(open(f).read() for f in glob.glob(os.path.join(cmake_dir, "*.cmake")))
     check(SOURCE not in text and BUILD not in text, "installed CMake files name neither the source nor the build tree")
     check("Eigen" not in text, "installed CMake files do not need Eigen")
+    build_consumer(["-DCMAKE_PREFIX_PATH=" + prefix], prefix)
+
+
+def build_consumer(args, where):
+    """Testing/Install/consumer configured with args, built and run: its
+    package and its library must come from `where`."""
     build = os.path.join(TMP, "consumer-build")
     p = run([CMAKE, "-S", os.path.join(SOURCE, "Testing", "Install", "consumer"), "-B", build,
-             "-G", "Ninja", "-DCMAKE_BUILD_TYPE=Release", "-DCMAKE_PREFIX_PATH=" + prefix],
-            env=clean_env())
+             "-G", "Ninja", "-DCMAKE_BUILD_TYPE=Release"] + args, env=clean_env())
     check(p.returncode == 0, "consumer configures with find_package(DigitalGeometry)")
     m = re.search(r"consumer: DigitalGeometry (\S+) from (\S+?),", p.stdout)
-    check(m is not None and m.group(1) == VERSION and m.group(2).startswith(prefix),
-          "found version %s in the prefix (%s)" % (m.group(1) if m else None, m.group(2) if m else None))
+    check(m is not None and m.group(1) == VERSION and m.group(2).startswith(where),
+          "found version %s in %s" % (m.group(1) if m else None, m.group(2) if m else None))
     if p.returncode != 0:
         finish()
     p = run([CMAKE, "--build", build], env=clean_env())
@@ -108,7 +114,14 @@ def case_cxx():
           "consumer's pipeline checks pass")
     ldd = run(["ldd", exe]).stdout
     lib = [line for line in ldd.splitlines() if "libvtkDigitalGeometry" in line]
-    check(len(lib) == 1 and prefix in lib[0], "consumer runs the prefix's library: " + (lib[0].strip() if lib else "none"))
+    check(len(lib) == 1 and where in lib[0], "consumer runs the library in %s: %s"
+          % (where, lib[0].strip() if lib else "none"))
+
+
+def case_buildtree():
+    """The same consumer against the build tree, without installing."""
+    build_consumer(["-DDigitalGeometry_DIR=" + os.path.join(BUILD, LIBDIR, "cmake", "DigitalGeometry")],
+                   BUILD + os.sep)
 
 
 def case_python():
@@ -235,6 +248,6 @@ def finish():
 
 
 if __name__ == "__main__":
-    {"cxx": case_cxx, "python": case_python, "plugin": case_plugin,
+    {"cxx": case_cxx, "buildtree": case_buildtree, "python": case_python, "plugin": case_plugin,
      "program": case_program, "deb": case_deb}[sys.argv[1]]()
     finish()
