@@ -2,7 +2,8 @@
 fit: a float or signed volume with no --range, --label or --labels is
 refused (exit 1, one line naming --range and --label, nothing written);
 with an explicit selection it runs. An empty selection names what was asked
-(the label, the range). And --version gives the project's one version."""
+(the label, the range). And --version, __version__, CITATION.cff and
+CHANGELOG.md give the version of project(VERSION)."""
 import os
 import re
 import shutil
@@ -127,6 +128,12 @@ check(m is not None and p.returncode == 0 and p.stdout.strip().startswith("piece
 import digitalgeometry  # noqa: E402
 check(m is not None and digitalgeometry.__version__ == m.group(1),
       "digitalgeometry.__version__ %s" % digitalgeometry.__version__)
+# The files that must repeat the number say the same.
+cff = re.search(r"^version: *\"?([0-9.]+)", open(os.path.join(SOURCE, "CITATION.cff")).read(), re.M)
+check(m is not None and cff is not None and cff.group(1) == m.group(1),
+      "CITATION.cff's version %s" % (cff.group(1) if cff else None))
+check(m is not None and ("## [%s]" % m.group(1)) in open(os.path.join(SOURCE, "CHANGELOG.md")).read(),
+      "CHANGELOG.md has a section for %s" % (m.group(1) if m else None))
 
 print("%d passed, %d failed" % (len(checks) - len(failures), len(failures)))
 if not failures:
