@@ -32,14 +32,14 @@ struct PipelineSettings
   // Inside voxels.
   int SelectionMode = vtkDigitalSurfaceFilter::NON_ZERO;
   double Lower = 1, Upper = VTK_DOUBLE_MAX, Label = 1;
-  // The paper's noise model (MATH.md section 7); 0 = none.
+  // The paper's noise model (docs/method.md section 7); 0 = none.
   double Noise = 0;
   int Seed = 0;
   // Inside components and cavities smaller than this many voxels are
   // removed before the surface is built (docs/islands.md); 0 = keep all.
   int MinimumComponentSize = 8;
   // The input normals: "ii" (integral invariant, default), "vcm" (Voronoi
-  // covariance measure) or "rht" (randomized Hough transform), MATH.md
+  // covariance measure) or "rht" (randomized Hough transform), docs/method.md
   // sections 6, 9, 10; each with the paper's parameters.
   std::string Estimator = "ii";
   // Integral invariant.

@@ -3,6 +3,8 @@
 #include "dgLabels.h"
 #include "dgProcesses.h"
 
+#include <vtkVersion.h>
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -41,7 +43,8 @@ INPUT   a DGtal .vol (Version 2 or 3), VTK .vti or .pvti, NIfTI .nii/.nii.gz (it
   --dicom-series UID     the series to read when the DICOM directory holds
                          several (otherwise an error lists them)
 
-Inside voxels (default: value != 0)
+Inside voxels (default: value != 0, for unsigned masks and label maps; a
+float or signed volume needs --range, --label or --labels)
   --label L              voxels whose value is L (label maps)
   --range LO HI          voxels whose value is in [LO, HI]
   --labels SPEC          every label of a label map in one run: "all", or labels
@@ -116,6 +119,7 @@ Outputs (in --output-dir, named PREFIX_*; PREFIX defaults to the input's name)
   --ply, --obj           also write the surface as PLY / OBJ
   --quiet                no progress bar
   -h, --help             this help
+  --version              the program's version (and VTK's), then exit
 
 Writes PREFIX_surface.vtp (cell data: SharpNormals (active), FeatureRegion,
 ATNormals, IINormals (VCMNormals, RHTNormals with --estimator), trivial Normals; point data: v = ATFeatureIndicator),
@@ -195,6 +199,13 @@ Options ParseOptions(int argc, char* argv[])
     {
       if (PrintsCommonMessages())
         Usage();
+      std::exit(0);
+    }
+    else if (arg == "--version")
+    {
+      if (PrintsCommonMessages())
+        std::cout << Program << " " << DG_VERSION << " (VTK " << vtkVersion::GetVTKVersion()
+                  << ")\n";
       std::exit(0);
     }
     else if (arg == "--output-dir")

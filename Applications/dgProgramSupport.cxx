@@ -2,7 +2,11 @@
 
 #include "dgHugePages.h"
 
+#include <vtkDataArray.h>
+#include <vtkDigitalSurfaceFilter.h>
 #include <vtkPolyData.h>
+#include <vtkSetGet.h>
+#include <vtkType.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkXMLWriter.h>
 
@@ -17,6 +21,99 @@
 
 namespace dgapp
 {
+std::string DefaultSelectionRefusal(const Options& opt, int scalarType, const std::string& input)
+{
+  if (opt.P.SelectionMode != vtkDigitalSurfaceFilter::NON_ZERO || !opt.Labels.empty())
+    return std::string();
+  const char* what = nullptr;
+  switch (scalarType)
+  {
+    case VTK_FLOAT:
+    case VTK_DOUBLE:
+      what = "floating-point";
+      break;
+    case VTK_SIGNED_CHAR:
+    case VTK_SHORT:
+    case VTK_INT:
+    case VTK_LONG:
+    case VTK_LONG_LONG:
+    case VTK_ID_TYPE:
+      what = "signed";
+      break;
+    case VTK_CHAR: // signed or not, as the platform's char
+      if (static_cast<char>(-1) < 0)
+        what = "signed";
+      break;
+    default:
+      break;
+  }
+  if (!what)
+    return std::string();
+  return "'" + input + "' holds " + what + " values: choose the inside voxels with --range LO HI " +
+    "or --label L (--labels for every label of a label map); the default, value != 0, is for " +
+    "unsigned masks";
+}
+
+namespace
+{
+template <typename T, typename Pass>
+bool AnyVoxelPasses(const T* values, vtkIdType count, int stride, Pass pass)
+{
+  for (vtkIdType i = 0; i < count; ++i)
+    if (pass(static_cast<double>(values[i * stride])))
+      return true;
+  return false;
+}
+}
+
+std::string EmptySelectionMessage(const Options& opt, vtkDataArray* scalars)
+{
+  if (!scalars || !opt.Labels.empty() || scalars->GetNumberOfTuples() == 0)
+    return std::string();
+  const int mode = opt.P.SelectionMode;
+  const double label = opt.P.Label, lo = opt.P.Lower, hi = opt.P.Upper;
+  auto pass = [&](double v)
+  {
+    if (mode == vtkDigitalSurfaceFilter::LABEL)
+      return v == label;
+    if (mode == vtkDigitalSurfaceFilter::RANGE)
+      return lo <= v && v <= hi;
+    return v != 0;
+  };
+  bool found = true;
+  const vtkIdType n = scalars->GetNumberOfTuples();
+  const int stride = scalars->GetNumberOfComponents();
+  if (scalars->HasStandardMemoryLayout())
+  {
+    switch (scalars->GetDataType())
+    {
+      vtkTemplateMacro(
+        found = AnyVoxelPasses(static_cast<const VTK_TT*>(scalars->GetVoidPointer(0)), n, stride, pass));
+      default:
+        return std::string();
+    }
+  }
+  else
+  {
+    found = false;
+    for (vtkIdType i = 0; i < n && !found; ++i)
+      found = pass(scalars->GetComponent(i, 0));
+  }
+  if (found)
+    return std::string();
+  std::ostringstream s;
+  if (mode == vtkDigitalSurfaceFilter::LABEL)
+    s << "no voxel has the label " << label << " (--label)";
+  else if (mode == vtkDigitalSurfaceFilter::RANGE)
+    s << "no voxel value is in the range [" << lo << ", " << hi << "] (--range)";
+  else
+    s << "no voxel is non-zero";
+  double range[2];
+  scalars->GetRange(range, 0);
+  s << ": the values are " << range[0] << " to " << range[1];
+  return s.str();
+}
+
 std::string Stem(const std::string& path)
 {
   std::string s = path;

@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+class vtkDataArray;
 class vtkPolyData;
 class vtkXMLWriter;
 
@@ -189,6 +190,19 @@ std::string PictureUnavailable();
 
 /// Prints "piecewise-normals: message" and returns the exit status 1.
 int Fail(const std::string& message);
+
+/// The default selection (value != 0) is meant for masks and label maps of
+/// unsigned integers. On float or signed values (a scalar field, CT in
+/// Hounsfield units) it takes nearly every voxel and gives a box: without an
+/// explicit --range, --label or --labels such an input is refused. Returns
+/// the one-line refusal for a VTK scalar type, or "" when the run may go on.
+std::string DefaultSelectionRefusal(const Options& opt, int scalarType, const std::string& input);
+
+/// Without --labels: "" when some voxel of the scalars (component 0) passes
+/// the selection, else one line naming what was asked (the label, the range)
+/// and the values the volume holds. Before any stage runs: later stages see
+/// only the island filter's 0/1 volume.
+std::string EmptySelectionMessage(const Options& opt, vtkDataArray* scalars);
 
 /// Binary data, compressed as --compression says.
 void ConfigureXMLWriter(vtkXMLWriter* w, const std::string& compression);

@@ -9,6 +9,9 @@
 #include "dgProcesses.h"
 
 #include <vtkCommand.h>
+#include <vtkDataArray.h>
+#include <vtkDataObject.h>
+#include <vtkDataSetAttributes.h>
 #include <vtkErrorCode.h>
 #include <vtkExecutive.h>
 #include <vtkInformation.h>
@@ -16,6 +19,7 @@
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkOutputWindow.h>
+#include <vtkPointData.h>
 #include <vtkStringOutputWindow.h>
 #include <vtkPolyData.h>
 #include <vtkXMLPolyDataWriter.h>
@@ -148,6 +152,23 @@ int RunPieces(Options opt, dg::Processes& procs)
         image = dg::ReadImage(opt.Input, error, opt.Read);
       if (prefix.empty())
         prefix = Stem(opt.Input);
+      // Float or signed values need an explicit selection (every rank
+      // reads the same header, so every rank agrees).
+      if (error.empty())
+      {
+        int type = -1;
+        if (image && image->GetPointData()->GetScalars())
+          type = image->GetPointData()->GetScalars()->GetDataType();
+        else if (reader)
+        {
+          vtkInformation* scalarInfo = vtkDataObject::GetActiveFieldInformation(
+            reader->GetOutputInformation(0), vtkDataObject::FIELD_ASSOCIATION_POINTS,
+            vtkDataSetAttributes::SCALARS);
+          if (scalarInfo && scalarInfo->Has(vtkDataObject::FIELD_ARRAY_TYPE()))
+            type = scalarInfo->Get(vtkDataObject::FIELD_ARRAY_TYPE());
+        }
+        error = DefaultSelectionRefusal(opt, type, opt.Input);
+      }
     }
     // A bad header is every rank's failure: one message.
     if (!agreeOrFail(error.empty(), error))

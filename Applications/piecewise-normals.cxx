@@ -12,6 +12,7 @@
 #include <vtkAppendPolyData.h>
 #include <vtkCellData.h>
 #include <vtkCommand.h>
+#include <vtkDataArray.h>
 #include <vtkErrorCode.h>
 #include <vtkExecutive.h>
 #include <vtkImageData.h>
@@ -19,6 +20,7 @@
 #include <vtkNew.h>
 #include <vtkOBJWriter.h>
 #include <vtkPLYWriter.h>
+#include <vtkPointData.h>
 #include <vtkPolyData.h>
 #include <vtkSMPTools.h>
 #include <vtkXMLPolyDataWriter.h>
@@ -114,6 +116,15 @@ int main(int argc, char* argv[])
     image = dg::ReadImage(opt.Input, error, opt.Read);
     if (!image)
       return Fail(error);
+    if (vtkDataArray* scalars = image->GetPointData()->GetScalars())
+    {
+      const std::string refusal = DefaultSelectionRefusal(opt, scalars->GetDataType(), opt.Input);
+      if (!refusal.empty())
+        return Fail(refusal);
+      const std::string empty = EmptySelectionMessage(opt, scalars);
+      if (!empty.empty())
+        return Fail("'" + opt.Input + "': " + empty);
+    }
     if (prefix.empty())
       prefix = Stem(opt.Input);
   }

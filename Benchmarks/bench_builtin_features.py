@@ -30,7 +30,7 @@ import tempfile
 import numpy as np
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-sys.path.insert(0, os.path.join(ROOT, "build", "lib", "python3.11", "site-packages"))
+sys.path.insert(0, os.path.join(ROOT, "build", "lib", "python3", "dist-packages"))
 
 import digitalgeometry as dg  # noqa: E402
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy  # noqa: E402

@@ -6,7 +6,7 @@ after; then the filter's time on TIMED (default octa-flower17k-512), clean
 and noisy, medians of --runs runs, in seconds (the digital surface's time
 alongside for scale).
 
-    VTK_SMP_BACKEND_IN_USE=STDThread PYTHONPATH=build/lib/python3.11/site-packages \\
+    VTK_SMP_BACKEND_IN_USE=STDThread PYTHONPATH=build/lib/python3/dist-packages \\
         /usr/bin/python3 Benchmarks/bench_islands.py [VOL] [--timed VOL] [--noise K] [--runs N]
 """
 import argparse

@@ -7,7 +7,7 @@ labels: what one run per label costs). Medians of `runs` runs.
 
     /usr/bin/python3 Benchmarks/bench_label_filters.py [N=256] [runs=3] [sample=10]
 
-Needs the build tree's package on PYTHONPATH (build/lib/python3.11/site-packages).
+Needs the build tree's package on PYTHONPATH (build/lib/python3/dist-packages).
 """
 import os
 import statistics

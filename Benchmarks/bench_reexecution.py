@@ -4,7 +4,7 @@ rebuilt from the kept solve), on the real pipeline's input (a volume ->
 noise -> digital surface -> II r = 3 -> AT with its defaults). Medians of
 --runs runs, in seconds.
 
-    PYTHONPATH=build/lib/python3.11/site-packages /usr/bin/python3 \\
+    PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 \\
         Benchmarks/bench_reexecution.py [VOL] [--noise K] [--runs N]
 """
 import argparse

@@ -1,6 +1,6 @@
-// Discrete operators of the Ambrosio-Tortorelli functional (MATH.md section 2)
+// Discrete operators of the Ambrosio-Tortorelli functional (docs/method.md section 2)
 // on any polygonal complex, and the sparsity structure of the two linear
-// systems of the alternating minimisation (MATH.md section 4).
+// systems of the alternating minimisation (docs/method.md section 4).
 //
 // Plain C++ and Eigen: the complex is given as polygon offsets/connectivity
 // (VTK's vtkCellArray layout), so that the core is testable and benchmarkable
@@ -17,7 +17,7 @@
 // zero outside the surface, which would mark every boundary of an open mesh
 // as a discontinuity wherever u != 0. The AT systems and energy therefore
 // leave boundary edges out of the jump term |diag(Mv) B u|^2 (a free,
-// Neumann-like boundary); MatrixB() itself keeps them, as MATH.md defines
+// Neumann-like boundary); MatrixB() itself keeps them, as docs/method.md defines
 // it. Closed surfaces (every digital surface) are not affected.
 #ifndef dgATOperators_h
 #define dgATOperators_h
@@ -106,7 +106,7 @@ public:
   std::vector<unsigned char> FaceEdgeCode;
   static constexpr unsigned char FaceEdgeBoundary = 0x40, FaceEdgeGeneral = 0x80;
 
-  /// The operators of MATH.md section 2, as sparse matrices (for tests, the
+  /// The operators of docs/method.md section 2, as sparse matrices (for tests, the
   /// energy and external use; the solver works from the arrays above).
   ATSparse MatrixA() const; // E x N, d0
   ATSparse MatrixB() const; // E x F, dual derivative

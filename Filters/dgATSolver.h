@@ -1,4 +1,4 @@
-// The Ambrosio-Tortorelli alternating minimisation (MATH.md sections 3-5) on
+// The Ambrosio-Tortorelli alternating minimisation (docs/method.md sections 3-5) on
 // an ATComplex: u (C values per face) and v (one value per vertex), the two
 // SPD linear systems, the epsilon schedule and the energy.
 //
@@ -264,7 +264,7 @@ public:
   void Initialize(Eigen::MatrixXd&& g);
   bool StepU();
   bool StepV(double epsilon);
-  /// AT_epsilon(u, v) of MATH.md section 3 for the current u, v (g is
+  /// AT_epsilon(u, v) of docs/method.md section 3 for the current u, v (g is
   /// recovered from the u right-hand sides alpha g, so to rounding).
   double Energy(double epsilon) const;
   /// Normalises every row of u to unit length (zero rows are left as they are).

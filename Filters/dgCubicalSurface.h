@@ -1,4 +1,4 @@
-// Digital surface extraction on a binary voxel grid (MATH.md section 1).
+// Digital surface extraction on a binary voxel grid (docs/method.md section 1).
 //
 // Plain C++ core of vtkDigitalSurfaceFilter: it knows nothing about VTK
 // pipelines so that it can be unit-tested and benchmarked on its own. The

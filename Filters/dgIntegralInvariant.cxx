@@ -651,7 +651,7 @@ void EstimateFromMoments(const IIMoments& m, int direction, double radius, bool 
   {
     return;
   }
-  // MATH.md section 6 with its constants written as the reference half
+  // docs/method.md section 6 with its constants written as the reference half
   // ball's volume V and tangent moments J1, J2 (along the eigenvectors of mu1
   // and mu2): 8/(3r) = 4 V / (pi r^4) and 8/(5r) = 6 (2 J) / (pi r^6) for the
   // Euclidean half ball, where J1 = J2 = J = 2 pi r^5 / 15.
@@ -703,8 +703,8 @@ void EstimateFromMoments(const IIMoments& m, int direction, double radius, bool 
   out.Gaussian = out.K1 * out.K2;
   // K1 comes from a2 - 3 a1: it is the curvature along mu1's eigenvector,
   // the smaller tangent eigenvalue (a surface that curves away more along a
-  // direction leaves less of the ball's inside near the rim there). MATH.md
-  // section 6 pairs k1 with mu2's eigenvector (so did DGtal's combined
+  // direction leaves less of the ball's inside near the rim there). The
+  // project's first method notes paired k1 with mu2's eigenvector (so did DGtal's combined
   // curvature-and-direction functor until its pull request 1657); the
   // tilted-cylinder and torus tests settle it. With a
   // per-direction reference the order can flip (k1 >= k2 always).

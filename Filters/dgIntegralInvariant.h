@@ -1,4 +1,4 @@
-// Integral-invariant covariance kernel (MATH.md section 6).
+// Integral-invariant covariance kernel (docs/method.md section 6).
 //
 // Plain C++ core of vtkIINormalEstimator. For a surfel with centre c and a
 // radius r (grid units) it sums, over the inside voxel centres p of the ball
@@ -31,7 +31,7 @@
 // space. It is still a list of x-rows, so the sums stay exact integers in
 // index coordinates; EstimateFromMoments maps them to the scaled frame
 // (covariance S C S, volumes times s_x s_y s_z), where the formulas of
-// MATH.md section 6 hold unchanged, and returns the normal as a grid
+// docs/method.md section 6 hold unchanged, and returns the normal as a grid
 // covector and the principal directions as grid vectors, as in the
 // isotropic case. With s = (1, 1, 1) every result is bitwise the old one.
 #ifndef dgIntegralInvariant_h
@@ -114,7 +114,7 @@ public:
 
 /// The zero-curvature reference of the curvature formulas: the volume of
 /// the half ball and its second moments along the tangent directions.
-/// - Continuous: the Euclidean half ball of MATH.md section 6, 2 pi r^3 / 3
+/// - Continuous: the Euclidean half ball of docs/method.md section 6, 2 pi r^3 / 3
 ///   and 2 pi r^5 / 15.
 /// - DigitalBall: half of the digital ball's voxel count and tangent moment
 ///   (a plane through the surfel centre perpendicular to the surfel's axis
@@ -182,7 +182,7 @@ struct IIEstimate
 
 /// Normal (eigenvector of the smallest eigenvalue of the covariance, oriented
 /// from the ball's barycentre to the surfel centre) and, when curvatures is
-/// true, the curvatures of MATH.md section 6. The orientation falls back to
+/// true, the curvatures of docs/method.md section 6. The orientation falls back to
 /// the trivial normal only when the barycentre offset is (nearly) zero or
 /// perpendicular to the eigenvector; the whole normal falls back when the
 /// covariance is degenerate (fewer than two non-zero eigenvalues).

@@ -1,4 +1,4 @@
-// The paper's noise model (MATH.md section 7): each voxel p is flipped
+// The paper's noise model (docs/method.md section 7): each voxel p is flipped
 // (inside <-> outside) with probability k^(1 + dt(p)), dt(p) being the
 // Euclidean distance from p to the boundary voxels of the original shape.
 // Plain C++; the random draws come from a counter-based hash of (seed, voxel

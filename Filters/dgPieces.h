@@ -1,4 +1,4 @@
-// Pieces of a structured volume (the distributed design, ARCHITECTURE.md):
+// Pieces of a structured volume (the distributed design, docs/distributed.md):
 // which voxels a piece owns and how far its inputs must reach beyond them.
 //
 // Every piece-aware filter of the module computes a piece's own (non-ghost)

@@ -1,4 +1,4 @@
-// Randomized Hough Transform normals (MATH.md section 10; Boulch and Marlet,
+// Randomized Hough Transform normals (docs/method.md section 10; Boulch and Marlet,
 // SGP 2012).
 //
 // Plain C++ core of vtkRHTNormalEstimator. For a surfel with centre c, the
@@ -13,7 +13,7 @@
 // (surfel centres are half-integers along one axis), so a triplet's cross
 // product is an exact integer vector: a triplet is degenerate exactly when
 // it is collinear (any other triangle of surfel centres has an area of at
-// least 1/8 voxel^2, above MATH.md's 0.01 threshold).
+// least 1/8 voxel^2, above docs/method.md's 0.01 threshold).
 //
 // Randomness: one splitmix64 stream per surfel, seeded from (Seed, the
 // surfel's inside voxel in image indices, its direction): the result does
@@ -184,7 +184,7 @@ struct RHTEstimate
 std::uint64_t SurfelSeed(std::uint64_t seed, std::int64_t i, std::int64_t j, std::int64_t k, int d);
 
 /// The RHT normal from the candidate points (doubled offsets, 3 ints each),
-/// oriented into the hemisphere of `reference` (unit, MATH.md section 6's
+/// oriented into the hemisphere of `reference` (unit, docs/method.md section 6's
 /// outward direction). With fewer than three points or no valid triplet
 /// the estimate is the reference itself (Fallback). The accumulators are
 /// `tables` (built for parameters.Accumulators and parameters.Seed).

@@ -1,4 +1,4 @@
-// Voronoi Covariance Measure of a digital surface (MATH.md section 9).
+// Voronoi Covariance Measure of a digital surface (docs/method.md section 9).
 //
 // Plain C++ core of vtkVCMNormalEstimator. The point set K is the set of
 // surfel centres; every lattice point x of Z^3 (voxel centres, inside or

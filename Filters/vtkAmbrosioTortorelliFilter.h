@@ -5,7 +5,7 @@
  *
  * The method of Coeurjolly, Foare, Gueth and Lachaud, "Piecewise smooth
  * reconstruction of normal vector field on digital data" (Pacific Graphics
- * 2016), as specified in MATH.md sections 2-5: the input field g (one value
+ * 2016), as specified in docs/method.md sections 2-5: the input field g (one value
  * per polygon) is replaced by u, minimising
  *
  *   AT_eps(u, v) = Alpha |u - g|^2 + |diag(M v) B u|^2

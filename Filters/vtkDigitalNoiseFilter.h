@@ -1,6 +1,6 @@
 /**
  * @class   vtkDigitalNoiseFilter
- * @brief   The paper's noise model on a segmented volume (MATH.md section 7).
+ * @brief   The paper's noise model on a segmented volume (docs/method.md section 7).
  *
  * Selects the inside voxels of the input image (same selection as
  * vtkDigitalSurfaceFilter: non-zero by default, a closed range or one label)

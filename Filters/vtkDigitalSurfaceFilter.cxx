@@ -30,6 +30,7 @@
 #include <Eigen/Dense>
 
 #include <cmath>
+#include <sstream>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -344,8 +345,28 @@ int vtkDigitalSurfaceFilter::ExecutePiece(vtkInformation*,
     // In a piece, no inside voxel is normal (the shape lies elsewhere).
     if (insideCount == 0 && !piece.Distributed())
     {
-      vtkErrorMacro("No voxel matches the selection (mode " << this->SelectionMode
-                                                            << "): the surface is empty.");
+      // Say what was asked, in the user's terms (the program's options).
+      std::ostringstream asked;
+      switch (this->SelectionMode)
+      {
+        case LABEL:
+          asked << "No voxel has the label " << this->Label;
+          break;
+        case RANGE:
+          asked << "No voxel value is in the range [" << this->LowerThreshold << ", "
+                << this->UpperThreshold << "]";
+          break;
+        default:
+          asked << "No voxel is non-zero";
+          break;
+      }
+      if (scalars && this->SelectedComponent < scalars->GetNumberOfComponents())
+      {
+        double range[2];
+        scalars->GetRange(range, this->SelectedComponent);
+        asked << " (the values are " << range[0] << " to " << range[1] << ")";
+      }
+      vtkErrorMacro(<< asked.str() << ": the surface is empty.");
       return 0;
     }
     if (insideCount == static_cast<std::int64_t>(dims[0]) * dims[1] * dims[2] &&

@@ -4,7 +4,7 @@
  *
  * The input is a vtkImageData whose point scalars (one value per voxel) select
  * the "inside" voxels; the output is the boundary of that voxel set as a 2D
- * cubical complex (MATH.md section 1): one quad per surfel, i.e. per voxel
+ * cubical complex (docs/method.md section 1): one quad per surfel, i.e. per voxel
  * face that separates an inside voxel from an outside 6-neighbour. Voxels
  * beyond the image extent are outside, so the surface is always closed.
  *

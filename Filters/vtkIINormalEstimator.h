@@ -26,7 +26,7 @@
  * the cost of the label's box rather than a full-volume pass per label.
  * A missing "Label" array is an error; one piece only.
  *
- * Method (MATH.md section 6): for every surfel with centre c (inside voxel +
+ * Method (docs/method.md section 6): for every surfel with centre c (inside voxel +
  * half a voxel along its direction, grid units) the covariance matrix C of
  * the inside voxel centres in the ball |p - c| <= r. The normal is the
  * eigenvector of the smallest eigenvalue of C, oriented from the barycentre
@@ -45,8 +45,8 @@
  * "IIGaussianCurvature", "IIK1", "IIK2" (k1 >= k2, 1 / world length; convex
  * is positive) and "IIK1Direction", "IIK2Direction" (the tangent directions
  * of k1 and k2: unit, world, sign arbitrary; k1's is the eigenvector of the
- * smaller tangent eigenvalue of the covariance, which MATH.md section 6 pairs
- * the other way: see dgIntegralInvariant.cxx).
+ * smaller tangent eigenvalue of the covariance, as docs/method.md section 6
+ * says; earlier notes paired them the other way: see dgIntegralInvariant.cxx).
  *
  * Radius: in voxels (RadiusUnits VOXELS, default, Radius 3) or in world
  * units (WORLD). The ball is a ball of world space: with an isotropic
@@ -156,7 +156,7 @@ public:
   ///@{
   /**
    * Zero-curvature reference of the curvature formulas (default
-   * DIGITAL_TANGENT_PLANE). The formulas of MATH.md section 6 compare the
+   * DIGITAL_TANGENT_PLANE). The formulas of docs/method.md section 6 compare the
    * ball's inside volume and covariance with those of a half ball:
    * CONTINUOUS uses the Euclidean half ball (2 pi r^3 / 3, 2 pi r^5 / 15), as
    * written there; DIGITAL_BALL half of the digital ball (exact for

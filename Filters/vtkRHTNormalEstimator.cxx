@@ -220,7 +220,7 @@ int vtkRHTNormalEstimator::ExecutePiece(
       }
       const int i = ijk[0], j = ijk[1], k = ijk[2];
       // The reference: from the barycentre of the ball's inside voxels to
-      // the surfel centre (MATH.md section 6), the trivial normal when zero.
+      // the surfel centre (docs/method.md section 6), the trivial normal when zero.
       const dg::IIMoments m = kernel.Moments(i, j, k, d);
       double ref[3] = { -static_cast<double>(m.Sum[0]), -static_cast<double>(m.Sum[1]),
         -static_cast<double>(m.Sum[2]) };

@@ -4,7 +4,7 @@
  *
  * Boulch and Marlet, "Fast and robust normal estimation for point clouds with
  * sharp features", SGP 2012, on the surfel centres of a digital surface
- * (MATH.md section 10; docs/rht.md). Near a crease the triplets that span one
+ * (docs/method.md section 10; docs/rht.md). Near a crease the triplets that span one
  * face outvote those that straddle it, so RHT keeps edges sharper than a
  * covariance estimator such as vtkIINormalEstimator.
  *
@@ -15,7 +15,7 @@
  * is needed twice: the candidate points of a surfel (the surfel centres
  * within Radius) are computed from its inside voxels, so that a piece sees
  * the surfels of its neighbours too, and the reference orientation is
- * MATH.md section 6's (from the barycentre of the inside voxels within
+ * docs/method.md section 6's (from the barycentre of the inside voxels within
  * Radius towards the surfel centre). Set the same selection (SelectionMode,
  * thresholds, Label, array) as on vtkDigitalSurfaceFilter.
  *

@@ -96,7 +96,7 @@ public:
   ///@{
   /**
    * How far, in face steps, a band face looks past the first region face it
-   * meets (>= 0, default 3): the local planes are fitted to the region faces
+   * meets (>= 0, default 5): the local planes are fitted to the region faces
    * found that far.
    */
   vtkSetMacro(SearchDepth, int);

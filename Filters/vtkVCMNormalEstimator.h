@@ -10,7 +10,7 @@
  * voxels (SelectionMode, thresholds, Label, the array of
  * SetInputArrayToProcess; the defaults of both filters match).
  *
- * Method (MATH.md section 9; Merigot, Ovsjanikov, Guibas 2011, and Cuel,
+ * Method (docs/method.md section 9; Merigot, Ovsjanikov, Guibas 2011, and Cuel,
  * Lachaud, Thibert 2014 for digital surfaces): K is the set of surfel
  * centres of the image (grid units). Every lattice point x of Z^3 (voxel
  * centres, inside or outside, also beyond the image) with d(x, K) <= R

@@ -166,7 +166,7 @@ TEST(ATFilter, RotatedCubeNoiseFree)
 TEST(ATFilter, RotatedCubeNoisy)
 {
   // k = 0.3. II radius 6 and lambda 0.03 (a longer, cleaner discontinuity
-  // set), alpha 0.05 (more smoothing of the noisy field): MATH.md section 6.
+  // set), alpha 0.05 (more smoothing of the noisy field): docs/method.md section 6.
   auto cube = dgtest::MakeRotatedCube(V3(31.7, 32.2, 31.9), 20, 20, 30, 10);
   auto res = RunAT(dgtest::NoisyDigitize(*cube, 64, 0.3, 7), 6.0, 0.05, 0.03);
   const Scores s = FeatureScores(res.Features, *cube);

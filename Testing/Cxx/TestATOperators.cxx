@@ -372,7 +372,7 @@ TEST(ATOperators, SystemsAndEnergyMatchOperatorFormulas)
   const Eigen::VectorXd mv = m * v;
   const Eigen::MatrixXd bu = b * u;
 
-  // The systems of MATH.md section 4, from dense operators.
+  // The systems of docs/method.md section 4, from dense operators.
   s.AssembleU();
   s.AssembleV(eps);
   const Eigen::MatrixXd ku = params.Alpha * Eigen::MatrixXd::Identity(g.rows(), g.rows()) +

@@ -1,4 +1,4 @@
-// Integral-invariant curvatures (MATH.md section 6, with its correction of
+// Integral-invariant curvatures (docs/method.md section 6, with its correction of
 // the principal directions): mean and principal curvatures and directions
 // on spheres, a plane, a tilted cylinder, a spherical cavity and a torus.
 #include "dgGroundTruth.h"
@@ -193,7 +193,7 @@ TEST(IIEstimator, PrincipalCurvaturesAndDirectionsOnTiltedCylinder)
   // around it (direction perpendicular to a and to the normal), k2 = 0 along
   // a. Curving away more along a direction removes more of the ball's inside
   // near the rim in that direction, so k1 belongs to the smaller tangent
-  // eigenvalue of the covariance matrix (Pottmann et al. 2007; MATH.md section
+  // eigenvalue of the covariance matrix (Pottmann et al. 2007; docs/method.md section
   // 6 pairs them the other way).
   const int n = 64;
   const double R = 14;

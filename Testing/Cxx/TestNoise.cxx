@@ -1,4 +1,4 @@
-// The paper's noise model (MATH.md section 7): exact distance transform,
+// The paper's noise model (docs/method.md section 7): exact distance transform,
 // flip rates k^(1 + d) by distance, k = 0 is the identity, seeds repeat.
 #include "dgGroundTruth.h"
 #include "dgNoise.h"

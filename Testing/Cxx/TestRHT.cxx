@@ -1,4 +1,4 @@
-// Randomized Hough Transform normals (MATH.md section 10): the candidate
+// Randomized Hough Transform normals (docs/method.md section 10): the candidate
 // points against a brute force, accuracy on planes, sharper edges than II on
 // a rotated cube, independence of threads and pieces, bad input, AT on the
 // result.

@@ -1,4 +1,4 @@
-// Voronoi Covariance Measure (MATH.md section 9): the core against a
+// Voronoi Covariance Measure (docs/method.md section 9): the core against a
 // brute-force reference, accuracy on a sphere against II, the feature score
 // near the edges of a rotated cube, bad input, AT on VCM normals, pieces.
 #include "dgGroundTruth.h"
