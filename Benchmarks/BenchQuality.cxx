@@ -4,7 +4,8 @@
 //
 // Shapes (dgGroundTruth, grid coordinates = voxel indices): sphere, rotated
 // cube, cube-sphere, cylinder with flat caps, octahedron, wedge (150 degree
-// ridge), digitised at n^3, with the paper's noise model
+// ridge), and with no sharp edge (issue 39) torus, torus2, ball, ellipsoid,
+// fillet2 ... fillet12 (a box with rounded edges), digitised at n^3, with the paper's noise model
 // (vtkDigitalNoiseFilter) at levels k and seeds s. Every method sees the same
 // noisy volume.
 //
@@ -292,9 +293,25 @@ void RunProgram(Output& out,
   };
   const Variant variants[] = { { "program", result, p.NormalsName(), p.Features() },
     { "program-plain", p.AT->GetOutput(0), "ATNormals", p.AT->GetOutput(1) } };
+  // Issue 39: the share of surfels whose output normal is 10 degrees or more
+  // worse than the program's own input (II) normal, as region "worse10"
+  // (its mean column: the percentage).
+  const std::vector<V3> input = Normals(result, p.InputNormalsName());
   for (const auto& v : variants)
   {
-    WriteErrors(out, row, v.Name, truth, Normals(v.Surface, v.Normals), &res.Errors[v.Name]);
+    const std::vector<V3> normals = Normals(v.Surface, v.Normals);
+    if (normals.size() == input.size() && !input.empty())
+    {
+      std::size_t worse = 0;
+      auto angle = [](const V3& a, const V3& b)
+      { return std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized())))) * 180 / M_PI; };
+      for (std::size_t i = 0; i < input.size(); ++i)
+        worse += angle(normals[i], truth.Normal[i]) >= angle(input[i], truth.Normal[i]) + 10;
+      out.NormalsCsv << row.Shape << "," << row.N << "," << row.K << "," << row.Seed << ","
+                     << v.Name << ",worse10," << input.size() << ","
+                     << 100.0 * worse / input.size() << ",,\n";
+    }
+    WriteErrors(out, row, v.Name, truth, normals, &res.Errors[v.Name]);
     FeatureScore fs = ScoreFeatures(v.Lines, shape);
     fs.Iterations = p.AT->GetNumberOfIterations();
     WriteFeatures(out, row, v.Name, fs);

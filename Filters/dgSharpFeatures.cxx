@@ -685,7 +685,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
     cs.CornerDepth = par.CornerDepth * meanEdge2;
     cs.EdgeLength = meanEdge2;
     const std::vector<CreaseVerdict> verdicts =
-      TestCreases(graph, centre, input, group, cornerDepth, cs);
+      TestCreases(graph, centre, input, out, group, cornerDepth, cs);
     for (auto& a : apart)
       a.clear();
     std::vector<std::pair<double, std::pair<int, int>>> bends;
@@ -774,7 +774,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       result.FeatureAngle.push_back(angle);
     }
   }
-  // 8. The output field (dgSharpFeaturesField.h): AT's u-step with v fixed
+  // 10. The output field (dgSharpFeaturesField.h): AT's u-step with v fixed
   // to the kept creases, on the input normals, or the side normals found
   // above within SearchDepth of a crease, where the input blends the two
   // sides. Its data weight follows the noise the surface shows: the share

@@ -36,8 +36,19 @@
 //    side's whole-region quadric (QuadricMergeFactor): under noise AT
 //    flattens patches of a curved surface into facets. The merged side's
 //    faces take the quadric's normal (within StrongFeatureAngle of theirs).
-// 5. Features: the edges between faces of two different (merged) regions.
+// 5. Creases and bends (dgSharpFeaturesCreases.h): every line left between
+//    two merged parts is kept only when the input estimator's normals,
+//    fitted on each side beyond 0.75 InputRadius and extrapolated to the
+//    line, jump by more than MinimumFeatureAngle plus what the sides'
+//    curvature and noise explain, and the band's voxels reach the corner
+//    its sides make (CornerDepth). The others (AT's terraces on curved
+//    parts, fillets) merge.
+// 6. Features: the edges between faces of two different (merged) regions.
 //    The line runs where the two sides' faces meet: one staircase line.
+// 7. The output field (dgSharpFeaturesField.h): AT's u-step with v fixed to
+//    the kept lines, on the input normals (the side normals near a line),
+//    twiced, with a data weight that follows the noise the surface shows
+//    (FieldAlpha).
 //
 // Plain C++ on a polygon mesh in offsets/connectivity form (vtkCellArray's
 // layout), testable without a pipeline.
@@ -104,7 +115,10 @@ struct SharpFeatureResult
 };
 
 /// points: 3 per point; normals: 3 per face (need not be unit; zero vectors
-/// are allowed and count as "no direction"); v: one per point. Returns false
+/// are allowed and count as "no direction"); v: one per point;
+/// inputNormals: 3 per face, the input estimator's normals that AT
+/// regularised (null: the crease test reads `normals` and no output field
+/// is solved). Returns false
 /// with a message on inconsistent input. `progress` (may be empty) gets a
 /// fraction in [0, 1] and returns false to abort (then false, error empty).
 bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,

@@ -103,7 +103,7 @@ SideFit FitSide(const std::vector<std::int64_t>& faces, const std::vector<Vec3>&
 } // namespace
 
 std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector<Vec3>& centre,
-  const std::vector<Vec3>& input, const std::vector<int>& group,
+  const std::vector<Vec3>& input, const std::vector<Vec3>& sides, const std::vector<int>& group,
   const std::vector<double>& cornerDepth, const CreaseTestSettings& settings)
 {
   const std::int64_t F = static_cast<std::int64_t>(group.size());
@@ -218,10 +218,19 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
       ? 0.0
       : std::max(0.0, std::max(Median(rateA), Median(rateB))) * settings.Near;
     v.Allowance = curvature + settings.NoiseFactor * (residuals.empty() ? 0.0 : Median(residuals));
-    const bool deep =
-      static_cast<int>(depths.size()) >= settings.MinimumSamples && v.Depth > settings.CornerDepth;
-    v.Crease = static_cast<int>(jumps.size()) >= settings.MinimumSamples && !deep &&
-      v.Jump >= settings.MinimumAngle + v.Allowance;
+    // Two sides facing apart (the two faces of a slab thinner than AT's
+    // band, their normals 150-180 degrees apart) make no corner to cut.
+    std::vector<double> sideJumps;
+    for (const Edge& be : line.second)
+      sideJumps.push_back(Angle(sides[be.A], sides[be.B]));
+    const double sideJump = Median(sideJumps);
+    const bool deep = static_cast<int>(depths.size()) >= settings.MinimumSamples &&
+      v.Depth > settings.CornerDepth && sideJump < 120;
+    // Sides too narrow to be fitted beyond the blur (a slab a few voxels
+    // thick): a crease when the stage's own side normals jump by a sure
+    // angle across the line and its voxels reach the corner.
+    const bool fitted = static_cast<int>(jumps.size()) >= settings.MinimumSamples;
+    v.Crease = fitted && !deep && v.Jump >= settings.MinimumAngle + v.Allowance;
     verdicts.push_back(v);
     for (std::int64_t f : reached)
     {

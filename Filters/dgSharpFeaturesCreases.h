@@ -16,6 +16,10 @@
 // and when the surface reaches the corner its two sides make (the band
 // faces' corner depth below CornerDepth): a fillet swallowed by AT's band
 // leaves sides that meet at a steep angle, but its voxels cut the corner off.
+// Sides facing apart (the stage's side normals 120 degrees or more apart:
+// the two faces of a slab thinner than AT's band) make no corner, and only
+// the jump decides. A line whose sides cannot be fitted beyond the blur
+// shows no crease and is a bend.
 #ifndef dgSharpFeaturesCreases_h
 #define dgSharpFeaturesCreases_h
 
@@ -49,12 +53,13 @@ struct CreaseVerdict
   int Edges = 0;
 };
 
-/// group: per face, its smooth part (-1: none); centre, input: per face,
-/// its centre and unit input normal; cornerDepth: per face, how far inside
+/// group: per face, its smooth part (-1: none); centre, input, sides: per
+/// face, its centre, unit input normal and the stage's side normal so far;
+/// cornerDepth: per face, how far inside
 /// the corner of its two nearest sides it lies (NaN when not measured).
 /// One verdict per pair of groups that share an edge, in (A, B) order.
 std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector<Vec3>& centre,
-  const std::vector<Vec3>& input, const std::vector<int>& group,
+  const std::vector<Vec3>& input, const std::vector<Vec3>& sides, const std::vector<int>& group,
   const std::vector<double>& cornerDepth, const CreaseTestSettings& settings);
 
 } // namespace sharp

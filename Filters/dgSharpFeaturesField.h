@@ -1,6 +1,6 @@
 // The sharp-features stage's output normals: Ambrosio-Tortorelli's u-step
 // with the discontinuity set fixed to the creases the stage kept
-// (docs/sharp-features.md, "The output field").
+// (docs/sharp-features.md, step 10).
 //
 // AT's own u is terraced on curved parts where its v dropped along false
 // lines; once the stage has decided which lines are creases, the field that

@@ -232,7 +232,7 @@ int vtkSharpFeaturesFilter::RequestData(
     }
   // The input estimator's normals (AT's own input): the crease test reads
   // them beyond their blur, and where the stage finds no crease the output
-  // field follows them (docs/sharp-features.md, steps 7 and 8).
+  // field follows them (docs/sharp-features.md, steps 7 and 10).
   std::vector<double> inputField;
   {
     vtkDataArray* in = nullptr;

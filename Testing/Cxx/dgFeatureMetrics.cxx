@@ -111,4 +111,68 @@ FeatureMetrics MeasureFeatures(
   return m;
 }
 
+std::string SmoothMetrics::Describe() const
+{
+  char s[256];
+  std::snprintf(s, sizeof(s),
+    "features %.1f/1000 | out mean %.2f p95 %.2f max %.1f | input mean %.2f p95 %.2f | worse %.2f %%",
+    this->FeaturesPer1000, this->Mean, this->P95, this->Max, this->InputMean, this->InputP95,
+    this->WorseShare);
+  return s;
+}
+
+SmoothMetrics MeasureSmooth(const ImplicitShape& shape, vtkPolyData* surface,
+  const char* outputNormals, const char* inputNormals, vtkPolyData* lines)
+{
+  SmoothMetrics m;
+  vtkDataArray* out = surface->GetCellData()->GetArray(outputNormals);
+  vtkDataArray* in = surface->GetCellData()->GetArray(inputNormals);
+  const vtkIdType n = surface->GetNumberOfCells();
+  if (!out || !in || n == 0)
+    return m;
+  std::vector<double> eo(n), ei(n);
+  vtkNew<vtkIdList> ids;
+  std::int64_t worse = 0;
+  for (vtkIdType c = 0; c < n; ++c)
+  {
+    surface->GetCellPoints(c, ids);
+    Eigen::Vector3d centre(0, 0, 0);
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+    {
+      Eigen::Vector3d p;
+      surface->GetPoint(ids->GetId(k), p.data());
+      centre += p / static_cast<double>(ids->GetNumberOfIds());
+    }
+    const Eigen::Vector3d t = shape.Normal(centre);
+    Eigen::Vector3d a, b;
+    out->GetTuple(c, a.data());
+    in->GetTuple(c, b.data());
+    eo[c] = std::min(AngleDegrees(a, t), 180.0 - AngleDegrees(a, t));
+    ei[c] = std::min(AngleDegrees(b, t), 180.0 - AngleDegrees(b, t));
+    worse += eo[c] >= ei[c] + 10.0;
+    m.Mean += eo[c] / n;
+    m.InputMean += ei[c] / n;
+    m.Max = std::max(m.Max, eo[c]);
+  }
+  auto p95 = [](std::vector<double> x) {
+    std::nth_element(x.begin(), x.begin() + static_cast<std::ptrdiff_t>(0.95 * (x.size() - 1)), x.end());
+    return x[static_cast<std::size_t>(0.95 * (x.size() - 1))];
+  };
+  m.P95 = p95(eo);
+  m.InputP95 = p95(ei);
+  m.WorseShare = 100.0 * static_cast<double>(worse) / n;
+  double length = 0;
+  if (vtkCellArray* ca = lines ? lines->GetLines() : nullptr)
+    for (ca->InitTraversal(); ca->GetNextCell(ids);)
+      for (vtkIdType j = 0; j + 1 < ids->GetNumberOfIds(); ++j)
+      {
+        Eigen::Vector3d a, b;
+        lines->GetPoint(ids->GetId(j), a.data());
+        lines->GetPoint(ids->GetId(j + 1), b.data());
+        length += (b - a).norm();
+      }
+  m.FeaturesPer1000 = 1000.0 * length / n;
+  return m;
+}
+
 } // namespace dgtest

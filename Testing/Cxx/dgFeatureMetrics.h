@@ -38,6 +38,20 @@ struct FeatureMetrics
 FeatureMetrics MeasureFeatures(const ImplicitShape& shape, vtkPolyData* surface,
   const char* normals, vtkPolyData* lines);
 
+/// On shapes with no sharp edge (issue 39): the feature length per 1000
+/// surfels, the output normals' error against the true normal at each
+/// quad's centre (mean, 95th percentile, largest; degrees, unoriented), the
+/// input normals' mean and 95th percentile, and the share of quads (%) whose
+/// output normal is 10 degrees or more worse than their input normal.
+struct SmoothMetrics
+{
+  double FeaturesPer1000 = 0, Mean = 0, P95 = 0, Max = 0, InputMean = 0, InputP95 = 0;
+  double WorseShare = 0;
+  std::string Describe() const;
+};
+SmoothMetrics MeasureSmooth(const ImplicitShape& shape, vtkPolyData* surface,
+  const char* outputNormals, const char* inputNormals, vtkPolyData* lines);
+
 } // namespace dgtest
 
 #endif

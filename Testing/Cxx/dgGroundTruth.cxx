@@ -401,6 +401,161 @@ std::vector<Eigen::Vector3d> ImplicitShape::SharpEdgeSamples(double step) const
   return out;
 }
 
+// Smooth shapes (issue 39): no sharp edge; each shape's Normal is the
+// normal at the surface point nearest to p.
+namespace
+{
+Eigen::Matrix3d Rotation(double ax, double ay, double az)
+{
+  const double d = M_PI / 180;
+  return (Eigen::AngleAxisd(az * d, V3::UnitZ()) * Eigen::AngleAxisd(ay * d, V3::UnitY()) *
+    Eigen::AngleAxisd(ax * d, V3::UnitX()))
+    .toRotationMatrix();
+}
+
+class TorusShape : public ImplicitShape
+{
+public:
+  TorusShape(const V3& c, const Eigen::Matrix3d& r, double major, double minor)
+    : C(c)
+    , R(r)
+    , Major(major)
+    , Minor(minor)
+  {
+  }
+  std::string Name() const override { return "torus"; }
+  double Value(const V3& p) const override
+  {
+    const V3 q = this->R.transpose() * (p - this->C);
+    return std::hypot(std::hypot(q.x(), q.y()) - this->Major, q.z()) - this->Minor;
+  }
+  V3 Normal(const V3& p) const override
+  {
+    const V3 q = this->R.transpose() * (p - this->C);
+    const double rho = std::hypot(q.x(), q.y());
+    const V3 ring = rho > 0 ? V3(q.x() / rho * this->Major, q.y() / rho * this->Major, 0)
+                            : V3(this->Major, 0, 0);
+    const V3 d = q - ring;
+    return this->R * (d.norm() > 0 ? V3(d.normalized()) : V3(0, 0, 1));
+  }
+
+private:
+  V3 C;
+  Eigen::Matrix3d R;
+  double Major, Minor;
+};
+
+class EllipsoidShape : public ImplicitShape
+{
+public:
+  EllipsoidShape(const V3& c, const Eigen::Matrix3d& r, const V3& axes)
+    : C(c)
+    , R(r)
+    , A(axes)
+  {
+  }
+  std::string Name() const override { return "ellipsoid"; }
+  // First-order distance |x/a| - 1 scaled by the gradient: < 0 inside.
+  double Value(const V3& p) const override
+  {
+    const V3 q = this->R.transpose() * (p - this->C);
+    const double k0 = q.cwiseQuotient(this->A).norm();
+    const double k1 = q.cwiseQuotient(this->A.cwiseProduct(this->A)).norm();
+    return k1 > 0 ? k0 * (k0 - 1) / k1 : -this->A.minCoeff();
+  }
+  // The nearest surface point x_i = q_i a_i^2 / (a_i^2 + t), Newton on t.
+  V3 Normal(const V3& p) const override
+  {
+    const V3 q = this->R.transpose() * (p - this->C);
+    const V3 a2 = this->A.cwiseProduct(this->A);
+    double t = 0;
+    for (int it = 0; it < 50; ++it)
+    {
+      double f = -1, df = 0;
+      for (int i = 0; i < 3; ++i)
+      {
+        const double s = a2[i] + t;
+        f += q[i] * q[i] * a2[i] / (s * s);
+        df += -2 * q[i] * q[i] * a2[i] / (s * s * s);
+      }
+      if (df == 0)
+        break;
+      t = std::max(t - f / df, -0.999 * a2.minCoeff());
+    }
+    V3 n;
+    for (int i = 0; i < 3; ++i)
+      n[i] = q[i] / (a2[i] + t);
+    return this->R * (n.norm() > 0 ? V3(n.normalized()) : V3(0, 0, 1));
+  }
+
+private:
+  V3 C;
+  Eigen::Matrix3d R;
+  V3 A;
+};
+
+// A box whose edges and corners are rounded with radius rho (the set of
+// points within rho of the box shrunk by rho): its signed distance is exact.
+class RoundedBoxShape : public ImplicitShape
+{
+public:
+  RoundedBoxShape(const V3& c, const Eigen::Matrix3d& r, const V3& half, double rho)
+    : C(c)
+    , R(r)
+    , Inner(half - V3::Constant(rho))
+    , Rho(rho)
+  {
+  }
+  std::string Name() const override { return "rounded box"; }
+  double Value(const V3& p) const override
+  {
+    const V3 q = (this->R.transpose() * (p - this->C)).cwiseAbs() - this->Inner;
+    return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0) - this->Rho;
+  }
+  V3 Normal(const V3& p) const override
+  {
+    const V3 l = this->R.transpose() * (p - this->C);
+    const V3 q = l.cwiseAbs() - this->Inner;
+    V3 n = q.cwiseMax(0.0);
+    if (n.norm() == 0)
+    {
+      Eigen::Index i;
+      q.maxCoeff(&i);
+      n = V3::Unit(i);
+    }
+    n.normalize();
+    for (int i = 0; i < 3; ++i)
+      n[i] = l[i] < 0 ? -n[i] : n[i];
+    return this->R * n;
+  }
+
+private:
+  V3 C;
+  Eigen::Matrix3d R;
+  V3 Inner;
+  double Rho;
+};
+
+} // namespace
+
+std::unique_ptr<ImplicitShape> MakeTorus(
+  const Eigen::Vector3d& center, double major, double minor, double ax, double ay, double az)
+{
+  return std::make_unique<TorusShape>(center, Rotation(ax, ay, az), major, minor);
+}
+
+std::unique_ptr<ImplicitShape> MakeEllipsoid(
+  const Eigen::Vector3d& center, const Eigen::Vector3d& axes, double ax, double ay, double az)
+{
+  return std::make_unique<EllipsoidShape>(center, Rotation(ax, ay, az), axes);
+}
+
+std::unique_ptr<ImplicitShape> MakeRoundedBox(const Eigen::Vector3d& center,
+  const Eigen::Vector3d& half, double radius, double ax, double ay, double az)
+{
+  return std::make_unique<RoundedBoxShape>(center, Rotation(ax, ay, az), half, radius);
+}
+
 std::unique_ptr<ImplicitShape> MakeSphere(const Eigen::Vector3d& center, double radius)
 {
   return std::make_unique<SphereShape>(center, radius);

@@ -94,6 +94,17 @@ std::unique_ptr<ImplicitShape> MakeOctahedron(const Eigen::Vector3d& center, dou
 /// (x = 0) has a dihedral angle of 150 degrees (the paper's vanishing features).
 std::unique_ptr<ImplicitShape> MakeWedge(const Eigen::Vector3d& center, double h);
 
+/// Smooth shapes, rotated by ax, ay, az degrees (R = Rz Ry Rx) about their
+/// centre: a torus (major and minor radius, axis z), an ellipsoid (semi-axes
+/// along x, y, z) and a box of half sides `half` whose edges and corners are
+/// rounded with `radius` (a fillet; radius 0 is the sharp box).
+std::unique_ptr<ImplicitShape> MakeTorus(
+  const Eigen::Vector3d& center, double major, double minor, double ax, double ay, double az);
+std::unique_ptr<ImplicitShape> MakeEllipsoid(
+  const Eigen::Vector3d& center, const Eigen::Vector3d& axes, double ax, double ay, double az);
+std::unique_ptr<ImplicitShape> MakeRoundedBox(const Eigen::Vector3d& center,
+  const Eigen::Vector3d& half, double radius, double ax, double ay, double az);
+
 /// Digitises a shape in an n^3 unsigned char image (1 inside, 0 outside).
 vtkSmartPointer<vtkImageData> Digitize(const ImplicitShape& shape, int n);
 /// The same with the paper's noise of level k (dg::ApplyNoise, given seed).
