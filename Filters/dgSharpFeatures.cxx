@@ -834,7 +834,13 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
     std::vector<double> data(3 * F), solved;
     for (std::int64_t f = 0; f < F; ++f)
     {
-      const Vec3 d = steps[f] >= 0 ? out[f] : input[f];
+      // A side normal is data only where it is a side's: near a crease the
+      // input blends the two sides, so it lies within about half the
+      // crease's angle of either; a side normal farther than 60 degrees
+      // from the input came from a region beyond a band wider than the
+      // search (measured on organic volumes, whose bands cover more than
+      // half the surface).
+      const Vec3 d = steps[f] >= 0 && AngleDegrees(out[f], input[f]) <= 60 ? out[f] : input[f];
       data[3 * f] = d.x;
       data[3 * f + 1] = d.y;
       data[3 * f + 2] = d.z;

@@ -179,7 +179,10 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
         s.Faces.clear();
         Breadth(graph, s, f0, steps, [&](std::int64_t g) { return seedOf[g] >= 0; },
           [&](std::int64_t f, int, int limit) {
-            if (side[f] == side[f0] && distance[f] >= settings.Near && distance[f] <= settings.Far)
+            // Faces turned away from the line face (the far side of a part
+            // thinner than the window) are not this side's surface.
+            if (side[f] == side[f0] && distance[f] >= settings.Near &&
+              distance[f] <= settings.Far && input[f].Dot(input[f0]) > 0)
               s.Faces.push_back(f);
             return limit;
           });

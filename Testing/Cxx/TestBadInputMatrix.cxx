@@ -169,9 +169,19 @@ Outcome AT(vtkPolyData* input, const std::function<void(vtkAmbrosioTortorelliFil
 Outcome Sharp(const std::function<void(vtkPolyData*)>& edit,
   const std::function<void(vtkSharpFeaturesFilter*)>& set = {})
 {
+  // II normals in front, as in the program: the sharp stage reads them for
+  // its crease test and warns when no input normal field is there.
+  auto cube = dgtest::MakeRotatedCube(Eigen::Vector3d(8.1, 7.9, 8.2), 4.5, 20, 30, 10);
+  auto image = dgtest::Digitize(*cube, 17);
+  vtkNew<vtkDigitalSurfaceFilter> surface;
+  surface->SetInputData(image);
+  vtkNew<vtkIINormalEstimator> ii;
+  ii->SetInputConnection(surface->GetOutputPort());
+  ii->SetSourceData(image);
+  ii->SetRadius(3);
   vtkNew<vtkAmbrosioTortorelliFilter> at;
   at->SetMaximumIterations(2);
-  at->SetInputData(CubeSurface());
+  at->SetInputConnection(ii->GetOutputPort());
   at->Update();
   auto input = vtkSmartPointer<vtkPolyData>::New();
   input->DeepCopy(at->GetOutput(0));

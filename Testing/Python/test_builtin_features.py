@@ -77,14 +77,16 @@ if surface is not None:
 # facet whose rim the stage drew as a closed loop until the quadric merges
 # (QuadricMergeFactor), and cuts the hole's wall into strips: measured P
 # 0.708 without them, 0.814 with one region's quadric, 0.920 with the merged
-# regions' quadric (2026-12-03), R 0.993.
+# regions' quadric (2026-12-03), R 0.993. Since the crease test (issue 39)
+# tests every line on the input normals too, part of what only the merges
+# removed goes without them: P 0.841 without, 0.911 with (2026-12-04).
 surface, p, rc, n = run_program("builtin-noisy", "--noise", "0.3", "--seed", "1")
 check(rc >= 0.97, f"k = 0.3: recall {rc:.3f} >= 0.97")
 check(p >= 0.88, f"k = 0.3: precision {p:.3f} >= 0.88")
 if surface is not None:
     p0, rc0, n0 = bench.score(edges, edge_loc, sharp_lines(surface, 0))
     print(f"the same without the quadric merges: P {p0:.3f} R {rc0:.3f} ({n0} edges)")
-    check(p >= p0 + 0.15 and n < n0, f"k = 0.3: the quadric merges remove false lines (P {p0:.3f} -> {p:.3f})")
+    check(p >= p0 + 0.04 and n < n0, f"k = 0.3: the quadric merges remove false lines (P {p0:.3f} -> {p:.3f})")
 
 if failures:
     print(f"{len(failures)} check(s) failed")
