@@ -20,6 +20,10 @@ DG_PACKAGES=(
   libdouble-conversion-dev liblz4-dev liblzma-dev libexpat1-dev libutfcpp-dev
   libpng-dev libjpeg-dev libtiff-dev libfreetype-dev libxml2-dev libglew-dev
   libgl-dev libx11-dev libxt-dev
+  # The plugin's in-application help pages (XML_DOCUMENTATION): ParaView's
+  # CMake looks for Qt5 Help and runs xmlpatterns and qhelpgenerator; the
+  # panel test (Testing/ParaView/TestPanels.cxx) builds on Qt5 Widgets.
+  qtbase5-dev qttools5-dev qttools5-dev-tools qtxmlpatterns5-dev-tools
 )
 
 dg_missing_packages() {

@@ -104,6 +104,19 @@ std::unique_ptr<ImplicitShape> MakeEllipsoid(
   const Eigen::Vector3d& center, const Eigen::Vector3d& axes, double ax, double ay, double az);
 std::unique_ptr<ImplicitShape> MakeRoundedBox(const Eigen::Vector3d& center,
   const Eigen::Vector3d& half, double radius, double ax, double ay, double az);
+/// A smooth union of balls (centres, radii): the zero set of the soft
+/// minimum -s log sum_i exp(-(|x - c_i| - r_i) / s) of their distances, with
+/// necks where two balls meet and saddles where three do; `blend` is s.
+std::unique_ptr<ImplicitShape> MakeBlobs(const std::vector<Eigen::Vector3d>& centers,
+  const std::vector<double>& radii, double blend);
+/// The smooth and filleted test shapes by name, scaled to an n^3 grid
+/// (TestSmoothShapes and BenchQuality measure the same ones): "torus",
+/// "torus2" (minor radius 0.16 n, two orientations), "sphere" (radius
+/// 0.19 n), "ellipsoid", "ellipsoid2", "filletR" (a rotated box whose edges
+/// are rounded with radius R voxels, R in 2..12) and "blobs" (five balls in
+/// a smooth union: necks and saddles, curvature radius >= 7 voxels at 64^3).
+/// nullptr for any other name.
+std::unique_ptr<ImplicitShape> MakeSmoothShape(const std::string& name, int n);
 
 /// Digitises a shape in an n^3 unsigned char image (1 inside, 0 outside).
 vtkSmartPointer<vtkImageData> Digitize(const ImplicitShape& shape, int n);
