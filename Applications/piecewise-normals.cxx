@@ -168,6 +168,7 @@ int main(int argc, char* argv[])
   std::vector<std::string> perLabel;
   std::map<std::string, double> stageTimes;
   std::vector<std::string> stageOrder;
+  double creaseTime = 0, fieldTime = 0; // the sharp stage's crease test and output field
   for (Run& run : runs)
   {
     pipelinePtr.reset(new dg::Pipeline);
@@ -190,6 +191,8 @@ int main(int argc, char* argv[])
     const long long n = pipeline.Surface->GetOutput()->GetNumberOfPolys();
     surfels += n;
     atLines += pipeline.AT->GetOutput(1)->GetNumberOfLines();
+    creaseTime += pipeline.Sharp->GetCreaseTestTime();
+    fieldTime += pipeline.Sharp->GetFieldTime();
     if (run.Settings.MinimumComponentSize > 1)
     {
       removed += pipeline.Islands->GetNumberOfRemovedIslands();
@@ -377,6 +380,9 @@ int main(int argc, char* argv[])
               << " voxels)\n";
   std::cout << "  time: " << stages.str() << " (total " << total << " s); peak memory "
             << static_cast<long>(PeakMemoryMiB()) << " MiB" << (HugePageMalloc() ? " (huge-page malloc)" : "") << "\n";
+  if (opt.P.Sharpen && !opt.Interfaces)
+    std::cout << "  sharp features: crease test " << creaseTime << " s, output field " << fieldTime
+              << " s\n";
   for (const auto& f : files.Finals)
     std::cout << "  wrote " << f << "\n";
   return 0;

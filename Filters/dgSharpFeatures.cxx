@@ -12,6 +12,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -684,8 +685,11 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
     cs.MinimumAngle = par.MinimumFeatureAngle;
     cs.CornerDepth = par.CornerDepth * meanEdge2;
     cs.EdgeLength = meanEdge2;
+    const auto creaseStart = std::chrono::steady_clock::now();
     const std::vector<CreaseVerdict> verdicts =
       TestCreases(graph, centre, input, out, group, cornerDepth, cs);
+    result.CreaseTestSeconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - creaseStart).count();
     for (auto& a : apart)
       a.clear();
     std::vector<std::pair<double, std::pair<int, int>>> bends;
@@ -846,9 +850,12 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       data[3 * f + 2] = d.z;
     }
     std::string fieldError;
+    const auto fieldStart = std::chrono::steady_clock::now();
     if (!SolveFieldWithCreases(numberOfPoints, offsets, connectivity, result.FeatureEdges, data,
           alpha, solved, &fieldError))
       return fail(fieldError);
+    result.FieldSeconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - fieldStart).count();
     for (std::int64_t f = 0; f < F; ++f)
       out[f] = Vec3(solved[3 * f], solved[3 * f + 1], solved[3 * f + 2]);
   }

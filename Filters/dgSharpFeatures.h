@@ -112,6 +112,8 @@ struct SharpFeatureResult
   int NumberOfBends = 0;                    // lines merged by it
   double NoiseShare = 0;                    // faces turned away from their input normal
   double FieldAlpha = 0;                    // the output field's data weight (0: no field)
+  double CreaseTestSeconds = 0;             // wall time of step 5, the crease test
+  double FieldSeconds = 0;                  // wall time of step 7, the output field
 };
 
 /// points: 3 per point; normals: 3 per face (need not be unit; zero vectors

@@ -310,6 +310,8 @@ int vtkSharpFeaturesFilter::RequestData(
   this->NumberOfBends = res.NumberOfBends;
   this->NoiseShare = res.NoiseShare;
   this->UsedFieldAlpha = res.FieldAlpha;
+  this->CreaseTestTime = res.CreaseTestSeconds;
+  this->FieldTime = res.FieldSeconds;
 
   output->ShallowCopy(input);
   vtkNew<vtkDoubleArray> sharp;
@@ -389,6 +391,8 @@ void vtkSharpFeaturesFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfCreases: " << this->NumberOfCreases << "\n";
   os << indent << "NumberOfBends: " << this->NumberOfBends << "\n";
   os << indent << "NoiseShare: " << this->NoiseShare << "\n";
+  os << indent << "CreaseTestTime: " << this->CreaseTestTime << "\n";
+  os << indent << "FieldTime: " << this->FieldTime << "\n";
   os << indent << "UsedFieldAlpha: " << this->UsedFieldAlpha << "\n";
   os << indent << "NumberOfBandFaces: " << this->NumberOfBandFaces << "\n";
   os << indent << "NumberOfUnassignedFaces: " << this->NumberOfUnassignedFaces << "\n";

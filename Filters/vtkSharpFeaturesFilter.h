@@ -347,6 +347,11 @@ public:
   vtkGetMacro(NoiseShare, double);
   vtkGetMacro(UsedFieldAlpha, double);
 
+  /// Wall time (seconds) of the last execution's crease test and output
+  /// field solve, the two parts issue 39 added (benchmarks report their cost).
+  vtkGetMacro(CreaseTestTime, double);
+  vtkGetMacro(FieldTime, double);
+
   /**
    * Figures of the last execution: band faces, band faces that met no
    * region (they keep their input normal), regions after merging.
@@ -389,6 +394,8 @@ protected:
   double CornerDepth = 0.6;
   double FieldAlpha = 0.0;
   int NumberOfCreases = 0;
+  double CreaseTestTime = 0;
+  double FieldTime = 0;
   int NumberOfBends = 0;
   double NoiseShare = 0.0;
   double UsedFieldAlpha = 0.0;
