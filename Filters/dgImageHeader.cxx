@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <fstream>
 #include <initializer_list>
+#include <limits>
 #include <sstream>
 #include <utility>
 
@@ -79,6 +80,9 @@ std::string FromColumns(const double columns[3][3], const char* name, HeaderGeom
     for (int r = 0; r < 3; ++r)
       unit[a][r] = columns[a][r] / len;
     g.Spacing[a] *= len;
+    if (!(g.Spacing[a] > 0) || !std::isfinite(g.Spacing[a]))
+      return "its spacing along axis " + std::to_string(a) + " (" + Fmt(g.Spacing[a]) +
+             ") is not a positive size";
   }
   for (int a = 0; a < 3; ++a)
     for (int b = a + 1; b < 3; ++b)
@@ -304,6 +308,9 @@ bool NrrdHasThreeSpatialAxes(const std::string& path, int sizes[3])
   const auto v = ParseNumbers(*s);
   if (v.size() != 3)
     return false;
+  for (double d : v)
+    if (!(d >= 1 && d <= std::numeric_limits<int>::max()))
+      return false; // not a size (VTK's reader judges it)
   if (const std::string* kinds = field("kinds"))
   {
     std::istringstream in(Lower(*kinds));

@@ -18,9 +18,14 @@
 #include <vtkPointData.h>
 #include <vtkSmartPointer.h>
 #include <vtkStreamingDemandDrivenPipeline.h>
+#include <vtk_zlib.h>
+#include <vtksys/SystemTools.hxx>
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
 #include <sstream>
 
 vtkStandardNewMacro(vtkNIfTIVolumeReader);
@@ -54,6 +59,109 @@ struct Quiet : public vtkCommand
   }
   std::string Message;
 };
+
+// False when the header of fileName (or of its .hdr for a .img) holds a
+// datatype NIfTI does not define: VTK 9.2's vtkNIFTIImageReader crashes on
+// some in RequestInformation (SIGSEGV seen for 2305, 2560, 4866, -5: an
+// out-of-bounds read), so such a header is refused before it gets there.
+bool KnownDataType(const std::string& fileName, short& datatype)
+{
+  std::string header = fileName;
+  const std::string lower = vtksys::SystemTools::LowerCase(fileName);
+  for (const char* img : { ".img", ".img.gz" })
+  {
+    const std::size_t n = std::strlen(img);
+    if (lower.size() > n && lower.compare(lower.size() - n, n, img) == 0)
+    {
+      const bool upper = header.compare(header.size() - n, 4, ".IMG") == 0;
+      header.replace(header.size() - n, 4, upper ? ".HDR" : ".hdr");
+    }
+  }
+  gzFile f = gzopen(header.c_str(), "rb");
+  if (!f)
+    return true; // VTK's reader says why
+  unsigned char h[348];
+  const int got = gzread(f, h, sizeof h);
+  gzclose(f);
+  // The version as vtkNIFTIImageReader finds it: NIfTI-2's magic at 4,
+  // NIfTI-1's at 344, else an Analyze header (sizeof_hdr 348, any order);
+  // the byte order from dim[0] (1..7).
+  auto magic = [&](int at, char v) {
+    return got >= at + 4 && h[at] == 'n' && (h[at + 1] == '+' || h[at + 1] == 'i') &&
+      h[at + 2] == v && h[at + 3] == 0;
+  };
+  int at = -1, dim0 = -1;
+  if (magic(4, '2'))
+    at = 12, dim0 = 16;
+  else if (got == 348 && (magic(344, '1') || (h[0] == 92 && h[1] == 1 && !h[2] && !h[3]) ||
+                          (!h[0] && !h[1] && h[2] == 1 && h[3] == 92)))
+    at = 70, dim0 = 40;
+  if (at < 0)
+    return true; // not a header: VTK's reader says so
+  const int little = h[dim0] | h[dim0 + 1] << 8;
+  const bool swap = !(little >= 1 && little <= 7);
+  datatype = static_cast<short>(swap ? (h[at] << 8 | h[at + 1]) : (h[at] | h[at + 1] << 8));
+  for (int known : { 0, 1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 768, 1024, 1280, 1536, 1792, 2048, 2304 })
+    if (datatype == known)
+      return true;
+  return false;
+}
+
+// A header without voxels, or an uncompressed single file (.nii) shorter
+// than its header's first volume: empty when it is long enough (or
+// compressed, or a .hdr/.img pair), else the problem. vtkNIFTIImageReader
+// allocates the volume the header declares before reading it, so a few
+// bytes claiming 2^40 voxels would otherwise allocate that much.
+std::string CheckDataSize(const char* fileName, vtkNIFTIImageReader* r)
+{
+  vtkNIFTIImageHeader* h = r->GetNIFTIHeader();
+  vtkInformation* info = r->GetOutputInformation(0);
+  int ext[6] = { 0, -1, 0, -1, 0, -1 };
+  info->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), ext);
+  // No voxel at all (a dimension of 0): vtkNIFTIImageReader's RequestData
+  // can spin for minutes on it.
+  if (ext[1] < ext[0] || ext[3] < ext[2] || ext[5] < ext[4])
+    return std::string(fileName) + ": a dimension of 0 in the header (no voxels)";
+  const std::string name = fileName;
+  if (!h || name.size() < 4 || vtksys::SystemTools::LowerCase(name.substr(name.size() - 4)) != ".nii")
+    return ""; // .hdr/.img, .nii.gz: the voxels are elsewhere or compressed
+  const std::string magic = h->GetMagic() ? h->GetMagic() : "";
+  std::ifstream in(fileName, std::ios::binary);
+  char head[2] = { 0, 0 };
+  if (!in.read(head, 2) || (head[0] == '\x1f' && head[1] == '\x8b'))
+    return ""; // gzip: its length says nothing
+  in.seekg(0, std::ios::end);
+  const double length = static_cast<double>(in.tellg());
+  double needed = 1;
+  for (int a = 0; a < 3; ++a)
+    needed *= ext[2 * a + 1] - ext[2 * a] + 1;
+  if (vtkInformation* scalar = vtkDataObject::GetActiveFieldInformation(
+        info, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS))
+  {
+    const int type = scalar->Get(vtkDataObject::FIELD_ARRAY_TYPE());
+    const int known[] = { VTK_CHAR, VTK_SIGNED_CHAR, VTK_UNSIGNED_CHAR, VTK_SHORT,
+      VTK_UNSIGNED_SHORT, VTK_INT, VTK_UNSIGNED_INT, VTK_LONG, VTK_UNSIGNED_LONG, VTK_LONG_LONG,
+      VTK_UNSIGNED_LONG_LONG, VTK_FLOAT, VTK_DOUBLE };
+    const vtkIdType bytes =
+      std::find(std::begin(known), std::end(known), type) != std::end(known)
+      ? vtkDataArray::GetDataTypeSize(type)
+      : 0;
+    if (bytes <= 0)
+      return std::string(fileName) + ": unsupported voxel data type (NIfTI datatype " +
+        std::to_string(h->GetDataType()) + ")";
+    needed *= scalar->Get(vtkDataObject::FIELD_NUMBER_OF_COMPONENTS()) * static_cast<double>(bytes);
+  }
+  if (magic == "n+1" || magic == "n+2")
+    needed += static_cast<double>(h->GetVoxOffset());
+  if (length < needed)
+  {
+    std::ostringstream e;
+    e << fileName << ": the file is shorter than its header says (" << length << " of " << needed
+      << " bytes: truncated?)";
+    return e.str();
+  }
+  return "";
+}
 }
 
 bool vtkNIfTIVolumeReader::Open(vtkNIFTIImageReader* r, bool withData, std::string& error)
@@ -61,6 +169,12 @@ bool vtkNIfTIVolumeReader::Open(vtkNIFTIImageReader* r, bool withData, std::stri
   if (!this->FileName || !*this->FileName)
   {
     error = "no FileName set";
+    return false;
+  }
+  if (short datatype = 0; !KnownDataType(this->FileName, datatype))
+  {
+    error = std::string(this->FileName) + ": unknown NIfTI datatype " + std::to_string(datatype) +
+      " (a corrupt header?)";
     return false;
   }
   // The reader's error and its executive's (which follows it), collected.
@@ -167,7 +281,14 @@ bool vtkNIfTIVolumeReader::Geometry(vtkNIFTIImageReader* r, bool warn, double or
       }
     }
   for (int a = 0; a < 3; ++a)
+  {
     origin[a] = t[a] + R[3 * a] * o[0] + R[3 * a + 1] * o[1] + R[3 * a + 2] * o[2];
+    if (!std::isfinite(origin[a]))
+    {
+      error = std::string(this->FileName) + ": the header transform's offset is not finite";
+      return false;
+    }
+  }
   if (this->CoordinateSystem == LPS)
   {
     // LPS = diag(-1, -1, 1) RAS.
@@ -190,7 +311,8 @@ int vtkNIfTIVolumeReader::RequestInformation(
   vtkNIFTIImageReader* r = this->Inner;
   double origin[3], spacing[3], direction[9];
   std::string error;
-  if (!this->Open(r, false, error) || !this->Geometry(r, true, origin, spacing, direction, error))
+  if (!this->Open(r, false, error) || !this->Geometry(r, true, origin, spacing, direction, error) ||
+    !(error = CheckDataSize(this->FileName, r)).empty())
   {
     vtkErrorMacro(<< error);
     return 0;

@@ -1,0 +1,144 @@
+// libFuzzer target: the hand-written MetaImage / NRRD header parsers of
+// Filters/dgImageHeader.{h,cxx} (ReadHeaderGeometry, CheckMetaImageDataSize,
+// NrrdHasThreeSpatialAxes, ParseNumbers) on arbitrary header text.
+//
+// Input: byte 0 = flags (bit 0: NRRD, else MetaImage), byte 1 = size of a
+// companion data file "d.raw" in 16-byte units, then the header text, which
+// is written to a per-process temporary directory (every '/' turned into
+// '_', so an ElementDataFile cannot name a file outside it).
+//
+// Fails on any crash or sanitizer report, and when a promise of the header
+// breaks:
+// - an error is one non-empty line;
+// - on success with g.Has: origin, spacing and direction finite, spacing
+//   > 0, direction columns of unit length and at right angles within the
+//   shear tolerance the parser accepts (|cos| <= 1e-4);
+// - RAS is LPS with x and y negated (same error, same spacing);
+// - ParseNumbers gives finite numbers only.
+#include "dgImageHeader.h"
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <unistd.h>
+
+namespace
+{
+std::string Dir;
+
+void Cleanup()
+{
+  if (!Dir.empty())
+  {
+    std::remove((Dir + "/h.mha").c_str());
+    std::remove((Dir + "/d.raw").c_str());
+    rmdir(Dir.c_str());
+  }
+}
+
+void Write(const std::string& path, const char* data, std::size_t size)
+{
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f)
+    std::abort();
+  if (size && std::fwrite(data, 1, size, f) != size)
+    std::abort();
+  std::fclose(f);
+}
+
+void CheckError(const std::string& why)
+{
+  if (why.empty() || why.find('\n') != std::string::npos)
+    std::abort();
+}
+
+void CheckGeometry(const dg::HeaderGeometry& g)
+{
+  for (int i = 0; i < 3; ++i)
+    if (!std::isfinite(g.Origin[i]) || !std::isfinite(g.Spacing[i]) || !(g.Spacing[i] > 0))
+      std::abort();
+  for (double d : g.Direction)
+    if (!std::isfinite(d))
+      std::abort();
+  for (int a = 0; a < 3; ++a)
+    for (int b = a; b < 3; ++b)
+    {
+      double dot = 0;
+      for (int r = 0; r < 3; ++r)
+        dot += g.Direction[3 * r + a] * g.Direction[3 * r + b];
+      if (a == b ? std::fabs(dot - 1) > 1e-9 : std::fabs(dot) > 1e-4 + 1e-9)
+        std::abort();
+    }
+}
+} // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
+{
+  if (size < 2)
+    return 0;
+  if (Dir.empty())
+  {
+    char tmpl[] = "/dev/shm/dg_fuzz_header_XXXXXX";
+    char tmpl2[] = "/tmp/dg_fuzz_header_XXXXXX";
+    const char* d = mkdtemp(tmpl);
+    if (!d)
+      d = mkdtemp(tmpl2);
+    if (!d)
+      std::abort();
+    Dir = d;
+    std::atexit(Cleanup);
+  }
+  const bool nrrd = data[0] & 1;
+  std::string text(reinterpret_cast<const char*>(data) + 2, size - 2);
+  for (char& c : text)
+    if (c == '/')
+      c = '_';
+  const std::string path = Dir + "/h.mha", companion = Dir + "/d.raw";
+  Write(path, text.data(), text.size());
+  const std::string zeros(16 * std::size_t(data[1]), '\0');
+  Write(companion, zeros.data(), zeros.size());
+
+  dg::HeaderGeometry lps, ras;
+  const std::string whyLps = dg::ReadHeaderGeometry(path, nrrd, false, lps);
+  const std::string whyRas = dg::ReadHeaderGeometry(path, nrrd, true, ras);
+  if (whyLps != whyRas || lps.Has != ras.Has)
+    std::abort();
+  if (!whyLps.empty())
+  {
+    CheckError(whyLps);
+  }
+  else if (lps.Has)
+  {
+    CheckGeometry(lps);
+    CheckGeometry(ras);
+    for (int r = 0; r < 3; ++r)
+    {
+      const double sign = r < 2 ? -1 : 1;
+      if (ras.Origin[r] != sign * lps.Origin[r] || ras.Spacing[r] != lps.Spacing[r])
+        std::abort();
+      for (int a = 0; a < 3; ++a)
+        if (ras.Direction[3 * r + a] != sign * lps.Direction[3 * r + a])
+          std::abort();
+    }
+  }
+
+  if (const std::string why = dg::CheckMetaImageDataSize(path); !why.empty())
+    CheckError(why);
+  int sizes[3] = { 0, 0, 0 };
+  dg::NrrdHasThreeSpatialAxes(path, sizes);
+
+  // ParseNumbers on each line of the text.
+  for (std::size_t at = 0; at <= text.size();)
+  {
+    std::size_t end = text.find('\n', at);
+    if (end == std::string::npos)
+      end = text.size();
+    for (double v : dg::ParseNumbers(text.substr(at, end - at)))
+      if (!std::isfinite(v))
+        std::abort();
+    at = end + 1;
+  }
+  return 0;
+}

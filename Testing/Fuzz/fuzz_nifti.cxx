@@ -1,0 +1,168 @@
+// libFuzzer target: vtkNIfTIVolumeReader (Filters/vtkNIfTIVolumeReader.cxx,
+// the qform / sform geometry on top of VTK's vtkNIFTIImageReader) on
+// arbitrary bytes written as a .nii file in a per-process temporary
+// directory, read once in LPS and once in RAS (gzip input is skipped, see
+// below).
+//
+// Fails on any crash or sanitizer report, and when a promise of the
+// reader's header breaks:
+// - an error is reported with a non-empty message and leaves an empty
+//   output;
+// - without an error: a non-empty image whose scalars cover its points,
+//   finite origin, spacing > 0, a direction of unit columns at right angles
+//   within the shear tolerance the reader accepts (|cos| <= 1e-4);
+// - RAS is LPS with x and y negated (same outcome, same spacing).
+#include "vtkNIfTIVolumeReader.h"
+
+#include <vtkCommand.h>
+#include <vtkDataArray.h>
+#include <vtkExecutive.h>
+#include <vtkImageData.h>
+#include <vtkMatrix3x3.h>
+#include <vtkNew.h>
+#include <vtkObject.h>
+#include <vtkOutputWindow.h>
+#include <vtkPointData.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <unistd.h>
+
+namespace
+{
+std::string Dir, Path;
+
+class Collect : public vtkCommand
+{
+public:
+  static Collect* New() { return new Collect; }
+  void Execute(vtkObject*, unsigned long event, void* data) override
+  {
+    if (event == vtkCommand::ErrorEvent)
+    {
+      ++this->Errors;
+      if (!data || !*static_cast<const char*>(data))
+        std::abort(); // an error without a message
+    }
+  }
+  int Errors = 0;
+};
+
+void Cleanup()
+{
+  if (!Dir.empty())
+  {
+    std::remove(Path.c_str());
+    rmdir(Dir.c_str());
+  }
+}
+
+struct Result
+{
+  bool Ok = false;
+  int Dims[3] = { 0, 0, 0 };
+  double Origin[3], Spacing[3], Direction[9];
+};
+
+Result Read(int system)
+{
+  vtkNew<Collect> collect;
+  vtkNew<vtkNIfTIVolumeReader> reader;
+  reader->AddObserver(vtkCommand::ErrorEvent, collect);
+  reader->AddObserver(vtkCommand::WarningEvent, collect);
+  reader->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, collect);
+  reader->SetFileName(Path.c_str());
+  reader->SetCoordinateSystem(system);
+  reader->Update();
+  vtkImageData* image = reader->GetOutput();
+  Result r;
+  if (collect->Errors)
+  {
+    if (image->GetNumberOfPoints() != 0)
+      std::abort(); // an error leaves an empty output
+    return r;
+  }
+  r.Ok = true;
+  const vtkIdType n = image->GetNumberOfPoints();
+  vtkDataArray* s = image->GetPointData()->GetScalars();
+  if (n <= 0 || !s || s->GetNumberOfTuples() != n)
+    std::abort();
+  image->GetDimensions(r.Dims);
+  image->GetOrigin(r.Origin);
+  image->GetSpacing(r.Spacing);
+  for (int i = 0; i < 9; ++i)
+    r.Direction[i] = image->GetDirectionMatrix()->GetData()[i];
+  for (int i = 0; i < 3; ++i)
+    if (!std::isfinite(r.Origin[i]) || !std::isfinite(r.Spacing[i]) || !(r.Spacing[i] > 0))
+      std::abort();
+  for (double d : r.Direction)
+    if (!std::isfinite(d))
+      std::abort();
+  for (int a = 0; a < 3; ++a)
+    for (int b = a; b < 3; ++b)
+    {
+      double dot = 0;
+      for (int k = 0; k < 3; ++k)
+        dot += r.Direction[3 * k + a] * r.Direction[3 * k + b];
+      if (a == b ? std::fabs(dot - 1) > 1e-9 : std::fabs(dot) > 1e-4 + 1e-9)
+        std::abort();
+    }
+  return r;
+}
+} // namespace
+
+extern "C" int LLVMFuzzerInitialize(int*, char***)
+{
+  // Quiet without GlobalWarningDisplayOff, which would silence the error
+  // events the reader and this target rely on.
+  vtkOutputWindow::GetInstance()->SetDisplayModeToNever();
+  return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
+{
+  if (Dir.empty())
+  {
+    char tmpl[] = "/dev/shm/dg_fuzz_nifti_XXXXXX";
+    char tmpl2[] = "/tmp/dg_fuzz_nifti_XXXXXX";
+    const char* d = mkdtemp(tmpl);
+    if (!d)
+      d = mkdtemp(tmpl2);
+    if (!d)
+      std::abort();
+    Dir = d;
+    Path = Dir + "/v.nii";
+    std::atexit(Cleanup);
+  }
+  // gzip streams are skipped: vtkNIFTIImageReader allocates the volume
+  // their header declares before inflating, and their length bounds nothing
+  // (VTK's code, not this module's; an uncompressed file is checked).
+  if (size >= 2 && data[0] == 0x1f && data[1] == 0x8b)
+    return 0;
+  std::FILE* f = std::fopen(Path.c_str(), "wb");
+  if (!f || (size && std::fwrite(data, 1, size, f) != size))
+    std::abort();
+  std::fclose(f);
+
+  const Result lps = Read(vtkNIfTIVolumeReader::LPS);
+  const Result ras = Read(vtkNIfTIVolumeReader::RAS);
+  if (lps.Ok != ras.Ok)
+    std::abort();
+  if (lps.Ok)
+  {
+    for (int r = 0; r < 3; ++r)
+    {
+      const double sign = r < 2 ? -1 : 1;
+      if (lps.Dims[r] != ras.Dims[r] || ras.Spacing[r] != lps.Spacing[r] ||
+        ras.Origin[r] != sign * lps.Origin[r])
+        std::abort();
+      for (int a = 0; a < 3; ++a)
+        if (ras.Direction[3 * r + a] != sign * lps.Direction[3 * r + a])
+          std::abort();
+    }
+  }
+  return 0;
+}
