@@ -1,4 +1,5 @@
 #include "dgDicomSeries.h"
+#include "dgDicomGeometry.h"
 #include "dgImageHeader.h"
 #include "dgImageInput.h"
 
@@ -45,19 +46,9 @@ namespace
 {
 using Vec = std::array<double, 3>;
 
-double Dot(const Vec& a, const Vec& b)
-{
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
 Vec Cross(const Vec& a, const Vec& b)
 {
   return { a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0] };
-}
-
-Vec Scaled(const Vec& a, double s)
-{
-  return { a[0] * s, a[1] * s, a[2] * s };
 }
 
 // A DICOM multi-valued decimal string ("1.5\\-2\\3") as numbers; nullptr or
@@ -75,19 +66,6 @@ std::string Trim(const char* text)
   while (!t.empty() && t.front() == ' ')
     t.erase(t.begin());
   return t;
-}
-
-std::string Base(const std::string& file)
-{
-  const auto slash = file.find_last_of('/');
-  return slash == std::string::npos ? file : file.substr(slash + 1);
-}
-
-std::string Format(double v)
-{
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
 }
 
 const gdcm::Tag TagSeriesUID(0x0020, 0x000e);
@@ -224,56 +202,26 @@ vtkSmartPointer<vtkImageData> ReadDicom(const std::string& path, const std::stri
     chosen = series.begin()->second;
   }
 
-  // 2. Geometry: one orientation, positions along the slice normal.
-  std::vector<Slice> slices;
-  Vec row{}, col{}, normal{};
-  double pixelSpacing[2] = { 1, 1 };
-  for (std::size_t s = 0; s < chosen.size(); ++s)
+  // 2. Geometry: one orientation, positions along the slice normal
+  // (dgDicomGeometry.h).
+  std::vector<DicomSliceTags> tags;
+  for (const std::string& f : chosen)
   {
-    const char* f = chosen[s].c_str();
-    const auto ipp = Numbers(scanner.GetValue(f, TagPosition));
-    const auto iop = Numbers(scanner.GetValue(f, TagOrientation));
-    const auto ps = Numbers(scanner.GetValue(f, TagPixelSpacing));
-    if (iop.size() != 6)
-      return fail("'" + Base(chosen[s]) + "' has no valid ImageOrientationPatient (0020,0037)");
-    if (ipp.size() != 3)
-      return fail("'" + Base(chosen[s]) + "' has no valid ImagePositionPatient (0020,0032)");
-    if (ps.size() != 2 || !(ps[0] > 0) || !(ps[1] > 0))
-      return fail("'" + Base(chosen[s]) + "' has no valid PixelSpacing (0028,0030)");
-    Vec r{ iop[0], iop[1], iop[2] }, c{ iop[3], iop[4], iop[5] };
-    if (s == 0)
-    {
-      const double lr = std::sqrt(Dot(r, r)), lc = std::sqrt(Dot(c, c));
-      if (std::abs(lr - 1) > 1e-3 || std::abs(lc - 1) > 1e-3)
-        return fail("ImageOrientationPatient (0020,0037) of '" + Base(chosen[s]) + "' is not made of unit vectors");
-      row = Scaled(r, 1 / lr);
-      col = Scaled(c, 1 / lc);
-      const double cosAngle = Dot(row, col);
-      if (std::abs(cosAngle) > 1e-3)
-        return fail("ImageOrientationPatient (0020,0037) of '" + Base(chosen[s]) + "' has rows and columns at " +
-          Format(std::acos(std::max(-1.0, std::min(1.0, cosAngle))) * 180 / M_PI) + " degrees (sheared)");
-      normal = Cross(row, col);
-      normal = Scaled(normal, 1 / std::sqrt(Dot(normal, normal)));
-      pixelSpacing[0] = ps[0];
-      pixelSpacing[1] = ps[1];
-    }
-    else
-    {
-      for (int a = 0; a < 3; ++a)
-        if (std::abs(r[a] - row[a]) > 1e-4 || std::abs(c[a] - col[a]) > 1e-4)
-          return fail("'" + Base(chosen[s]) + "' has another ImageOrientationPatient than '" +
-            Base(chosen[0]) + "' (one volume needs one orientation)");
-      if (std::abs(ps[0] - pixelSpacing[0]) > 1e-6 * pixelSpacing[0] ||
-        std::abs(ps[1] - pixelSpacing[1]) > 1e-6 * pixelSpacing[1])
-        return fail("'" + Base(chosen[s]) + "' has another PixelSpacing than '" + Base(chosen[0]) + "'");
-    }
-    Slice sl;
-    sl.File = chosen[s];
-    sl.Position = { ipp[0], ipp[1], ipp[2] };
-    sl.Along = Dot(sl.Position, normal);
-    slices.push_back(sl);
+    auto value = [&](const gdcm::Tag& t) {
+      const char* v = scanner.GetValue(f.c_str(), t);
+      return std::string(v ? v : "");
+    };
+    tags.push_back({ f, value(TagPosition), value(TagOrientation), value(TagPixelSpacing) });
   }
-  std::stable_sort(slices.begin(), slices.end(), [](const Slice& a, const Slice& b) { return a.Along < b.Along; });
+  DicomStack stack;
+  std::string why;
+  if (!OrderDicomSlices(tags, stack, why))
+    return fail(why);
+  const Vec row = stack.Row, col = stack.Column, normal = stack.Normal;
+  const double* pixelSpacing = stack.PixelSpacing;
+  std::vector<Slice> slices;
+  for (std::size_t s = 0; s < stack.Files.size(); ++s)
+    slices.push_back({ stack.Files[s], stack.Positions[s], stack.Along[s] });
 
   // 3. The voxels, slice by slice in that order.
   const std::size_t nSlices = slices.size();
@@ -287,19 +235,19 @@ vtkSmartPointer<vtkImageData> ReadDicom(const std::string& path, const std::stri
     gdcm::ImageReader reader;
     reader.SetFileName(slices[s].File.c_str());
     if (!reader.Read())
-      return fail("'" + Base(slices[s].File) + "' has no image GDCM can read");
+      return fail("'" + DicomFileName(slices[s].File) + "' has no image GDCM can read");
     const gdcm::Image& image = reader.GetImage();
     const unsigned int* d = image.GetDimensions();
     const unsigned int depth = image.GetNumberOfDimensions() > 2 ? d[2] : 1;
     if (depth != 1 && nSlices > 1)
-      return fail("'" + Base(slices[s].File) + "' is a multi-frame image inside a series of single slices");
+      return fail("'" + DicomFileName(slices[s].File) + "' is a multi-frame image inside a series of single slices");
     const gdcm::PixelFormat pf = image.GetPixelFormat();
     if (pf.GetSamplesPerPixel() != 1)
-      return fail("'" + Base(slices[s].File) + "' has " + std::to_string(pf.GetSamplesPerPixel()) +
+      return fail("'" + DicomFileName(slices[s].File) + "' has " + std::to_string(pf.GetSamplesPerPixel()) +
         " samples per pixel (colour): a segmented volume needs one");
     const int t = VTKType(pf.GetScalarType());
     if (t < 0)
-      return fail("'" + Base(slices[s].File) + "' has an unsupported pixel format (BitsAllocated " +
+      return fail("'" + DicomFileName(slices[s].File) + "' has an unsupported pixel format (BitsAllocated " +
         std::to_string(pf.GetBitsAllocated()) + ")");
     if (s == 0)
     {
@@ -315,17 +263,17 @@ vtkSmartPointer<vtkImageData> ReadDicom(const std::string& path, const std::stri
       }
     }
     else if (d[0] != dims[0] || d[1] != dims[1])
-      return fail("'" + Base(slices[s].File) + "' has " + std::to_string(d[0]) + " x " + std::to_string(d[1]) +
-        " pixels, '" + Base(slices[0].File) + "' " + std::to_string(dims[0]) + " x " + std::to_string(dims[1]));
+      return fail("'" + DicomFileName(slices[s].File) + "' has " + std::to_string(d[0]) + " x " + std::to_string(d[1]) +
+        " pixels, '" + DicomFileName(slices[0].File) + "' " + std::to_string(dims[0]) + " x " + std::to_string(dims[1]));
     else if (t != type)
-      return fail("'" + Base(slices[s].File) + "' has another pixel type than '" + Base(slices[0].File) + "'");
+      return fail("'" + DicomFileName(slices[s].File) + "' has another pixel type than '" + DicomFileName(slices[0].File) + "'");
     const std::size_t bytes = static_cast<std::size_t>(d[0]) * d[1] * depth * pf.GetPixelSize();
     if (image.GetBufferLength() != bytes)
-      return fail("'" + Base(slices[s].File) + "' has " + std::to_string(image.GetBufferLength()) +
+      return fail("'" + DicomFileName(slices[s].File) + "' has " + std::to_string(image.GetBufferLength()) +
         " bytes of pixel data, " + std::to_string(bytes) + " expected");
     buffers[s].resize(bytes);
     if (!image.GetBuffer(buffers[s].data()))
-      return fail("'" + Base(slices[s].File) + "': its pixel data cannot be decoded");
+      return fail("'" + DicomFileName(slices[s].File) + "': its pixel data cannot be decoded");
     rescale[s] = { image.GetSlope(), image.GetIntercept() };
   }
 
@@ -358,43 +306,9 @@ vtkSmartPointer<vtkImageData> ReadDicom(const std::string& path, const std::stri
   }
   else if (nSlices > 1)
   {
-    for (std::size_t s = 1; s < nSlices; ++s)
-      if (slices[s].Along - slices[s - 1].Along <= 1e-6 * std::max(1.0, std::abs(slices[s].Along)))
-        return fail("'" + Base(slices[s - 1].File) + "' and '" + Base(slices[s].File) +
-          "' are at the same position along the slice normal (several acquisitions or echoes in one series?)");
-    const double step = (slices.back().Along - slices.front().Along) / static_cast<double>(nSlices - 1);
-    // Every slice within 1% of a slice spacing of the uniform grid, and on the
-    // normal through the first slice's corner (no gantry tilt).
-    double worst = 0, worstShift = 0;
-    for (std::size_t s = 0; s < nSlices; ++s)
-    {
-      worst = std::max(worst, std::abs(slices[s].Along - slices[0].Along - step * static_cast<double>(s)));
-      Vec off{ slices[s].Position[0] - origin[0], slices[s].Position[1] - origin[1],
-        slices[s].Position[2] - origin[2] };
-      const double along = Dot(off, normal);
-      Vec across{ off[0] - along * normal[0], off[1] - along * normal[1], off[2] - along * normal[2] };
-      worstShift = std::max(worstShift, std::sqrt(Dot(across, across)));
-    }
-    if (worst > 0.01 * step)
-    {
-      std::vector<double> distinct;
-      for (std::size_t s = 1; s < nSlices; ++s)
-      {
-        const double gap = slices[s].Along - slices[s - 1].Along;
-        if (std::none_of(distinct.begin(), distinct.end(), [&](double g) { return std::abs(g - gap) <= 0.01 * step; }))
-          distinct.push_back(gap);
-      }
-      std::string gaps;
-      for (std::size_t i = 0; i < distinct.size() && i < 8; ++i)
-        gaps += (i ? ", " : "") + Format(distinct[i]);
-      if (distinct.size() > 8)
-        gaps += ", ...";
-      return fail("non-uniform slice spacing (" + gaps + " mm between consecutive slices of " +
-        std::to_string(nSlices) + "; missing slices?): refused rather than resampled");
-    }
-    if (worstShift > 0.01 * std::min({ spacing[0], spacing[1], step }))
-      return fail("the slices are not stacked along their normal (shifted by up to " + Format(worstShift) +
-        " mm across it: gantry tilt?), which origin, spacing and direction cannot express");
+    double step = 1;
+    if (!UniformDicomStep(stack, step, why))
+      return fail(why);
     spacing[2] = step;
   }
   else

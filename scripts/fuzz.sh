@@ -3,7 +3,8 @@
 # into build-fuzz/ and runs each for DG_FUZZ_SECONDS (default 30) from the
 # seed corpus committed under Testing/Fuzz/corpus_<name>:
 #   fuzz_vol      the .vol decoder (Filters/dgVolFormat)
-#   fuzz_header   the MetaImage / NRRD header parsers (Filters/dgImageHeader)
+#   fuzz_header   the MetaImage / NRRD header parsers (Filters/dgImageHeader) and the
+#                 DICOM series geometry (Applications/dgDicomGeometry)
 #   fuzz_filters  surface, II, AT, sharp features and islands on small volumes
 #   fuzz_nifti    vtkNIfTIVolumeReader (qform / sform geometry) on .nii bytes
 # 4 targets x 30 s = 120 s of fuzzing. A crash fails the run and leaves the
@@ -30,8 +31,8 @@ VTK_LIBS=(-L"$LIB" -lvtkCommonCore-pv5.11 -lvtkCommonDataModel-pv5.11
 TARGETS=(fuzz_vol fuzz_header)
 clang++ "${FLAGS[@]}" "$DG_ROOT/Testing/Fuzz/fuzz_vol.cxx" "$DG_ROOT/Filters/dgVolFormat.cxx" \
   -lz -o "$OUT/fuzz_vol"
-clang++ "${FLAGS[@]}" "$DG_ROOT/Testing/Fuzz/fuzz_header.cxx" "$DG_ROOT/Filters/dgImageHeader.cxx" \
-  -o "$OUT/fuzz_header"
+clang++ "${FLAGS[@]}" -I"$DG_ROOT/Applications" "$DG_ROOT/Testing/Fuzz/fuzz_header.cxx" \
+  "$DG_ROOT/Filters/dgImageHeader.cxx" "$DG_ROOT/Applications/dgDicomGeometry.cxx" -o "$OUT/fuzz_header"
 GEN="${DG_FUZZ_GEN:-$DG_ROOT/build/Filters}"
 if [ -f "$GEN/vtkDigitalGeometryModule.h" ]; then
   # The module's sources, compiled once (in parallel) with the fuzzer's

@@ -2,6 +2,12 @@
 // Filters/dgImageHeader.{h,cxx} (ReadHeaderGeometry, CheckMetaImageDataSize,
 // NrrdHasThreeSpatialAxes, ParseNumbers) on arbitrary header text.
 //
+// With bit 1 of byte 0 set, the text is instead a DICOM series' geometry
+// tags (Applications/dgDicomGeometry.h: OrderDicomSlices, UniformDicomStep),
+// one slice per line, "position|orientation|pixel spacing" as the tags'
+// strings; on success the cosines are unit and at right angles, the slices
+// sorted along the normal, and the step positive and finite.
+//
 // Input: byte 0 = flags (bit 0: NRRD, else MetaImage), byte 1 = size of a
 // companion data file "d.raw" in 16-byte units, then the header text, which
 // is written to a per-process temporary directory (every '/' turned into
@@ -15,6 +21,7 @@
 //   shear tolerance the parser accepts (|cos| <= 1e-4);
 // - RAS is LPS with x and y negated (same error, same spacing);
 // - ParseNumbers gives finite numbers only.
+#include "dgDicomGeometry.h"
 #include "dgImageHeader.h"
 
 #include <cmath>
@@ -22,6 +29,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <vector>
 #include <unistd.h>
 
 namespace
@@ -72,6 +80,64 @@ void CheckGeometry(const dg::HeaderGeometry& g)
         std::abort();
     }
 }
+void CheckUnit(const dg::DicomVec& v)
+{
+  const double n = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+  if (!(std::fabs(n - 1) <= 1e-9))
+    std::abort();
+}
+
+void FuzzDicomGeometry(const std::string& text)
+{
+  std::vector<dg::DicomSliceTags> slices;
+  for (std::size_t at = 0; at < text.size() && slices.size() < 64;)
+  {
+    std::size_t end = text.find('\n', at);
+    if (end == std::string::npos)
+      end = text.size();
+    const std::string line = text.substr(at, end - at);
+    dg::DicomSliceTags t;
+    t.File = "slice" + std::to_string(slices.size()) + ".dcm";
+    const std::size_t a = line.find('|'), b = a == std::string::npos ? a : line.find('|', a + 1);
+    t.Position = line.substr(0, a);
+    if (a != std::string::npos)
+      t.Orientation = line.substr(a + 1, b == std::string::npos ? b : b - a - 1);
+    if (b != std::string::npos)
+      t.PixelSpacing = line.substr(b + 1);
+    slices.push_back(t);
+    at = end + 1;
+  }
+  dg::DicomStack stack;
+  std::string why;
+  if (!dg::OrderDicomSlices(slices, stack, why))
+  {
+    CheckError(why);
+    return;
+  }
+  CheckUnit(stack.Row);
+  CheckUnit(stack.Column);
+  CheckUnit(stack.Normal);
+  const double cosRC = stack.Row[0] * stack.Column[0] + stack.Row[1] * stack.Column[1] + stack.Row[2] * stack.Column[2];
+  if (!(std::fabs(cosRC) <= 1e-3 + 1e-9) || stack.Files.size() != slices.size() ||
+    stack.Positions.size() != slices.size() || stack.Along.size() != slices.size())
+    std::abort();
+  for (std::size_t s = 1; s < stack.Along.size(); ++s)
+    if (!(stack.Along[s - 1] <= stack.Along[s]))
+      std::abort();
+  if (stack.Along.size() >= 2)
+  {
+    double step = 0;
+    if (dg::UniformDicomStep(stack, step, why))
+    {
+      if (!(step > 0) || !std::isfinite(step))
+        std::abort();
+    }
+    else
+    {
+      CheckError(why);
+    }
+  }
+}
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
@@ -92,6 +158,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   const bool nrrd = data[0] & 1;
   std::string text(reinterpret_cast<const char*>(data) + 2, size - 2);
+  if (data[0] & 2)
+  {
+    FuzzDicomGeometry(text);
+    return 0;
+  }
   for (char& c : text)
     if (c == '/')
       c = '_';
