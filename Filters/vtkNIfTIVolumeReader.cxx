@@ -60,11 +60,13 @@ struct Quiet : public vtkCommand
   std::string Message;
 };
 
-// False when the header of fileName (or of its .hdr for a .img) holds a
-// datatype NIfTI does not define: VTK 9.2's vtkNIFTIImageReader crashes on
-// some in RequestInformation (SIGSEGV seen for 2305, 2560, 4866, -5: an
-// out-of-bounds read), so such a header is refused before it gets there.
-bool KnownDataType(const std::string& fileName, short& datatype)
+// Empty, or the problem when the header of fileName (or of its .hdr for a
+// .img) holds a datatype NIfTI does not define or a dim[0] outside 1..7 in
+// both byte orders: VTK 9.2's vtkNIFTIImageReader crashes on such headers
+// in RequestInformation (SIGSEGV seen for datatypes 2305, 2560, 4866, -5,
+// and for dim[0] = 0: out-of-bounds reads), so they are refused before it
+// gets there.
+std::string HeaderProblem(const std::string& fileName)
 {
   std::string header = fileName;
   const std::string lower = vtksys::SystemTools::LowerCase(fileName);
@@ -79,7 +81,7 @@ bool KnownDataType(const std::string& fileName, short& datatype)
   }
   gzFile f = gzopen(header.c_str(), "rb");
   if (!f)
-    return true; // VTK's reader says why
+    return ""; // VTK's reader says why
   unsigned char h[348];
   const int got = gzread(f, h, sizeof h);
   gzclose(f);
@@ -97,14 +99,18 @@ bool KnownDataType(const std::string& fileName, short& datatype)
                           (!h[0] && !h[1] && h[2] == 1 && h[3] == 92)))
     at = 70, dim0 = 40;
   if (at < 0)
-    return true; // not a header: VTK's reader says so
+    return ""; // not a header: VTK's reader says so
   const int little = h[dim0] | h[dim0 + 1] << 8;
+  const int big = h[dim0] << 8 | h[dim0 + 1];
+  // (NIfTI-1 and Analyze: a 2-byte dim[0]; NIfTI-2's is 8 bytes, left to VTK.)
+  if (dim0 == 40 && !(little >= 1 && little <= 7) && !(big >= 1 && big <= 7))
+    return "dim[0] is " + std::to_string(little) + ", not a number of dimensions (1 to 7): a corrupt header?";
   const bool swap = !(little >= 1 && little <= 7);
-  datatype = static_cast<short>(swap ? (h[at] << 8 | h[at + 1]) : (h[at] | h[at + 1] << 8));
+  const short datatype = static_cast<short>(swap ? (h[at] << 8 | h[at + 1]) : (h[at] | h[at + 1] << 8));
   for (int known : { 0, 1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 768, 1024, 1280, 1536, 1792, 2048, 2304 })
     if (datatype == known)
-      return true;
-  return false;
+      return "";
+  return "unknown NIfTI datatype " + std::to_string(datatype) + " (a corrupt header?)";
 }
 
 // A header without voxels, or an uncompressed single file (.nii) shorter
@@ -171,10 +177,9 @@ bool vtkNIfTIVolumeReader::Open(vtkNIFTIImageReader* r, bool withData, std::stri
     error = "no FileName set";
     return false;
   }
-  if (short datatype = 0; !KnownDataType(this->FileName, datatype))
+  if (const std::string problem = HeaderProblem(this->FileName); !problem.empty())
   {
-    error = std::string(this->FileName) + ": unknown NIfTI datatype " + std::to_string(datatype) +
-      " (a corrupt header?)";
+    error = std::string(this->FileName) + ": " + problem;
     return false;
   }
   // The reader's error and its executive's (which follows it), collected.
@@ -250,7 +255,7 @@ bool vtkNIfTIVolumeReader::Geometry(vtkNIFTIImageReader* r, bool warn, double or
   for (int c = 0; c < 3; ++c)
   {
     const double len = std::sqrt(R[c] * R[c] + R[3 + c] * R[3 + c] + R[6 + c] * R[6 + c]);
-    if (!(len > 0) || !std::isfinite(len) || !(s[c] > 0))
+    if (!(len > 0) || !std::isfinite(len) || !(s[c] > 0) || !std::isfinite(s[c] * len))
     {
       error = std::string(this->FileName) + ": degenerate voxel axis " + std::to_string(c) +
         " in the header transform";

@@ -74,8 +74,11 @@ run() {
   mkdir -p "$OUT/corpus_$name"
   cp -n "$corpus"/* "$OUT/corpus_$name/" 2>/dev/null || true
   echo "[fuzz] $name for ${SECONDS_EACH}s"
-  (cd "$OUT" && "./$name" -max_total_time="$SECONDS_EACH" -max_len=4096 -rss_limit_mb=4096 \
-    -timeout=20 -print_final_stats=1 "corpus_$name" > "$name.log" 2>&1) \
+  # A fixed seed (DG_FUZZ_SEED, default 1): the test command's runs mutate
+  # the same way each time (up to the time limit), so a failure reproduces;
+  # DG_FUZZ_SEED=0 lets libFuzzer pick one for longer exploratory runs.
+  (cd "$OUT" && "./$name" -seed="${DG_FUZZ_SEED:-1}" -max_total_time="$SECONDS_EACH" -max_len=4096 \
+    -rss_limit_mb=4096 -timeout=20 -print_final_stats=1 "corpus_$name" > "$name.log" 2>&1) \
     || { tail -40 "$OUT/$name.log"; status=1; }
   grep -E "stat::number_of_executed_units|stat::peak_rss_mb" "$OUT/$name.log" || true
 }
