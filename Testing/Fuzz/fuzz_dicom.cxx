@@ -21,6 +21,7 @@
 //   spacing > 0 and finite, and a direction of unit columns at right angles
 //   within the orientation tolerance the reader accepts (|cos| <= 1e-3).
 #include "dgDicomSeries.h"
+#include "dgFuzzSupport.h"
 
 #include <vtkDataArray.h>
 #include <vtkImageData.h>
@@ -67,14 +68,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 {
   if (Dir.empty())
   {
-    char tmpl[] = "/dev/shm/dg_fuzz_dicom_XXXXXX";
-    char tmpl2[] = "/tmp/dg_fuzz_dicom_XXXXXX";
-    const char* d = mkdtemp(tmpl);
-    if (!d)
-      d = mkdtemp(tmpl2);
-    if (!d)
-      std::abort();
-    Dir = d;
+    Dir = dgfuzz::MakeScratchDirectory("dicom");
     std::atexit(Cleanup);
   }
   for (int i = 0; i < MaxFiles; ++i)
@@ -112,20 +106,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   image->GetOrigin(origin);
   image->GetSpacing(spacing);
   const double* d = image->GetDirectionMatrix()->GetData();
-  for (int i = 0; i < 3; ++i)
-    if (!std::isfinite(origin[i]) || !std::isfinite(spacing[i]) || !(spacing[i] > 0))
-      std::abort();
-  for (int i = 0; i < 9; ++i)
-    if (!std::isfinite(d[i]))
-      std::abort();
-  for (int a = 0; a < 3; ++a)
-    for (int b = a; b < 3; ++b)
-    {
-      double dot = 0;
-      for (int k = 0; k < 3; ++k)
-        dot += d[3 * k + a] * d[3 * k + b];
-      if (a == b ? std::fabs(dot - 1) > 1e-6 : std::fabs(dot) > 1e-3 + 1e-9)
-        std::abort();
-    }
+  dgfuzz::CheckGridGeometry(origin, spacing, d, 1e-6, 1e-3);
   return 0;
 }

@@ -23,6 +23,7 @@
 // - ParseNumbers gives finite numbers only.
 #include "dgDicomGeometry.h"
 #include "dgImageHeader.h"
+#include "dgFuzzSupport.h"
 
 #include <cmath>
 #include <cstdint>
@@ -64,21 +65,7 @@ void CheckError(const std::string& why)
 
 void CheckGeometry(const dg::HeaderGeometry& g)
 {
-  for (int i = 0; i < 3; ++i)
-    if (!std::isfinite(g.Origin[i]) || !std::isfinite(g.Spacing[i]) || !(g.Spacing[i] > 0))
-      std::abort();
-  for (double d : g.Direction)
-    if (!std::isfinite(d))
-      std::abort();
-  for (int a = 0; a < 3; ++a)
-    for (int b = a; b < 3; ++b)
-    {
-      double dot = 0;
-      for (int r = 0; r < 3; ++r)
-        dot += g.Direction[3 * r + a] * g.Direction[3 * r + b];
-      if (a == b ? std::fabs(dot - 1) > 1e-9 : std::fabs(dot) > 1e-4 + 1e-9)
-        std::abort();
-    }
+  dgfuzz::CheckGridGeometry(g.Origin, g.Spacing, g.Direction);
 }
 void CheckUnit(const dg::DicomVec& v)
 {
@@ -146,14 +133,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return 0;
   if (Dir.empty())
   {
-    char tmpl[] = "/dev/shm/dg_fuzz_header_XXXXXX";
-    char tmpl2[] = "/tmp/dg_fuzz_header_XXXXXX";
-    const char* d = mkdtemp(tmpl);
-    if (!d)
-      d = mkdtemp(tmpl2);
-    if (!d)
-      std::abort();
-    Dir = d;
+    Dir = dgfuzz::MakeScratchDirectory("header");
     std::atexit(Cleanup);
   }
   const bool nrrd = data[0] & 1;

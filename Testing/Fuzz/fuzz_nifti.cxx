@@ -13,6 +13,7 @@
 //   within the shear tolerance the reader accepts (|cos| <= 1e-4);
 // - RAS is LPS with x and y negated (same outcome, same spacing).
 #include "vtkNIfTIVolumeReader.h"
+#include "dgFuzzSupport.h"
 
 #include <vtkCommand.h>
 #include <vtkDataArray.h>
@@ -95,21 +96,7 @@ Result Read(int system)
   image->GetSpacing(r.Spacing);
   for (int i = 0; i < 9; ++i)
     r.Direction[i] = image->GetDirectionMatrix()->GetData()[i];
-  for (int i = 0; i < 3; ++i)
-    if (!std::isfinite(r.Origin[i]) || !std::isfinite(r.Spacing[i]) || !(r.Spacing[i] > 0))
-      std::abort();
-  for (double d : r.Direction)
-    if (!std::isfinite(d))
-      std::abort();
-  for (int a = 0; a < 3; ++a)
-    for (int b = a; b < 3; ++b)
-    {
-      double dot = 0;
-      for (int k = 0; k < 3; ++k)
-        dot += r.Direction[3 * k + a] * r.Direction[3 * k + b];
-      if (a == b ? std::fabs(dot - 1) > 1e-9 : std::fabs(dot) > 1e-4 + 1e-9)
-        std::abort();
-    }
+  dgfuzz::CheckGridGeometry(r.Origin, r.Spacing, r.Direction);
   return r;
 }
 } // namespace
@@ -126,14 +113,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 {
   if (Dir.empty())
   {
-    char tmpl[] = "/dev/shm/dg_fuzz_nifti_XXXXXX";
-    char tmpl2[] = "/tmp/dg_fuzz_nifti_XXXXXX";
-    const char* d = mkdtemp(tmpl);
-    if (!d)
-      d = mkdtemp(tmpl2);
-    if (!d)
-      std::abort();
-    Dir = d;
+    Dir = dgfuzz::MakeScratchDirectory("nifti");
     Path = Dir + "/v.nii";
     std::atexit(Cleanup);
   }
