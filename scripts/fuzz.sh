@@ -8,7 +8,7 @@
 #   fuzz_filters  surface, II, AT, sharp features and islands on small volumes
 #   fuzz_nifti    vtkNIfTIVolumeReader (qform / sform geometry) on .nii bytes: replays its
 #                 corpus only unless DG_FUZZ_NIFTI=1 (VTK 9.2's reader crashes on some headers)
-# 4 targets x 30 s = 120 s of fuzzing. A crash fails the run and leaves the
+# 3 targets x 30 s = 90 s of fuzzing, and fuzz_nifti's replay. A crash fails the run and leaves the
 # reproducer in build-fuzz/ (crash-*, oom-*, timeout-*).
 # fuzz_filters and fuzz_nifti compile the module's sources and link
 # ParaView's VTK; the export header comes from a configured build tree
