@@ -156,6 +156,20 @@ void Pipeline::Build(vtkImageData* image, vtkAlgorithmOutput* source, const Pipe
     this->Sharp2->SetInputRadius(blur);
     this->Stages.push_back({ "sharp features 2", this->Sharp2 });
   }
+  if (s.Curvature)
+  {
+    // Reads the active normals of the stage before (the final field).
+    this->Curvature->SetInputConnection(this->Normals()->GetOutputPort(0));
+    this->Curvature->SetRadius(s.CurvatureRadius);
+    this->Stages.push_back({ "corrected curvature", this->Curvature });
+  }
+}
+
+vtkAlgorithm* Pipeline::Normals()
+{
+  if (this->UseSecondPass())
+    return this->Sharp2;
+  return this->Settings.Sharpen ? static_cast<vtkAlgorithm*>(this->Sharp) : this->AT;
 }
 
 const char* Pipeline::InputNormalsName() const
@@ -169,9 +183,9 @@ const char* Pipeline::InputNormalsName() const
 
 vtkPolyData* Pipeline::Result()
 {
-  if (this->UseSecondPass())
-    return this->Sharp2->GetOutput(0);
-  return this->Settings.Sharpen ? this->Sharp->GetOutput(0) : this->AT->GetOutput(0);
+  if (this->Settings.Curvature)
+    return this->Curvature->GetOutput(0);
+  return vtkPolyData::SafeDownCast(this->Normals()->GetOutputDataObject(0));
 }
 
 vtkPolyData* Pipeline::Features()

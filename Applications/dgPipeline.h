@@ -9,6 +9,7 @@
 #define dgPipeline_h
 
 #include "vtkAmbrosioTortorelliFilter.h"
+#include "vtkCorrectedCurvatureFilter.h"
 #include "vtkDigitalIslandFilter.h"
 #include "vtkDigitalNoiseFilter.h"
 #include "vtkDigitalSurfaceFilter.h"
@@ -71,6 +72,11 @@ struct PipelineSettings
   // then the sharp stage again: normals 10-30 % closer near the edges, twice
   // AT's time (docs/sharp-features.md). Needs Sharpen.
   bool SecondPass = false;
+  // Corrected curvature measures of the final normals, per side of the
+  // sharp stage's creases (vtkCorrectedCurvatureFilter), ball radius in
+  // voxels.
+  bool Curvature = false;
+  double CurvatureRadius = 7;
 };
 
 /// The settings' AT parameters on an AT filter (every AT the program runs).
@@ -97,6 +103,9 @@ public:
   /// final ones active) and the feature lines.
   vtkPolyData* Result();
   vtkPolyData* Features();
+  /// With Curvature: the creases between the sharp stage's regions and
+  /// their angles (vtkCorrectedCurvatureFilter's port 1).
+  vtkPolyData* Creases() { return this->Curvature->GetOutput(1); }
   /// The voxels the surface was built from (after noise and islands; a
   /// piece of them when the pipeline ran for a piece).
   vtkImageData* Volume();
@@ -117,9 +126,12 @@ public:
   vtkNew<vtkSharpFeaturesFilter> Sharp;
   vtkNew<vtkAmbrosioTortorelliFilter> AT2;
   vtkNew<vtkSharpFeaturesFilter> Sharp2;
+  vtkNew<vtkCorrectedCurvatureFilter> Curvature;
 
 private:
   void Build(vtkImageData* image, vtkAlgorithmOutput* source, const PipelineSettings& settings);
+  /// The stage whose port 0 holds the final normals.
+  vtkAlgorithm* Normals();
   bool UseSecondPass() const { return this->Settings.Sharpen && this->Settings.SecondPass; }
   PipelineSettings Settings;
   vtkImageData* Input = nullptr;

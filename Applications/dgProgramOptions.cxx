@@ -105,6 +105,14 @@ Sharp features (after AT: one line per sharp edge, side normals up to it)
                          feature edges (a band of ladders along each edge)
   --second-pass          AT again on the side normals, then the sharp stage again:
                          normals closer to the truth near the edges, twice AT's time
+Curvature (corrected curvature measures of the final normals, docs/curvature-measures.md)
+  --curvature            mean, Gaussian and principal curvatures per face, each
+                         side of a crease measured on its own, the creases'
+                         angles, whole-surface figures (area, specific surface
+                         area, integral of H, Euler characteristic); writes
+                         PREFIX_creases.vtp and the picture PREFIX_curvature.png
+  --curvature-radius R   their ball radius in voxels (default 5; implies
+                         --curvature)
 Outputs (in --output-dir, named PREFIX_*; PREFIX defaults to the input's name)
   --output-dir DIR       default: current directory (created if missing)
   --prefix NAME          file name prefix
@@ -245,6 +253,15 @@ Options ParseOptions(int argc, char* argv[])
       o.P.Sharpen = false;
     else if (arg == "--second-pass")
       o.P.SecondPass = true;
+    else if (arg == "--curvature")
+      o.P.Curvature = true;
+    else if (arg == "--curvature-radius")
+    {
+      o.P.Curvature = true;
+      o.P.CurvatureRadius = number();
+      if (!(o.P.CurvatureRadius > 0))
+        OptionError("--curvature-radius must be > 0 (voxels)");
+    }
     else if (arg == "--radius")
       o.P.Radius = number();
     else if (arg == "--estimator")
@@ -397,6 +414,8 @@ Options ParseOptions(int argc, char* argv[])
     if (o.P.SecondPass)
       OptionError("--labels and --second-pass cannot be combined");
   }
+  if (o.P.Curvature && !o.Labels.empty())
+    OptionError("--curvature measures one surface: drop --labels (or --label L for one label)");
   if (o.Interfaces)
   {
     if (o.Labels.empty())

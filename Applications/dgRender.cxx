@@ -1,4 +1,5 @@
 #include "dgRender.h"
+#include "dgRenderParts.h"
 
 #include <vtkActor.h>
 #include <vtkCamera.h>
@@ -92,6 +93,10 @@ vtkSmartPointer<vtkActor> NormalColourActor(vtkPolyData* surface, vtkDataArray* 
   return actor;
 }
 
+} // namespace
+
+namespace render
+{
 // The feature lines, moved shift towards the viewer: they lie on the
 // surface, often in the concave corners of its staircase, and a depth offset
 // in the mapper is not a safe cure (a slope-scaled one lets the tubes of the
@@ -176,12 +181,6 @@ void ThreeQuarterView(double direction[3], double up[3])
   c->GetViewUp(up);
 }
 
-struct Frame
-{
-  double Center[3]; // of the object's projected extent, at the bounds' depth
-  double Width, Height; // of that extent, in world units
-};
-
 // The extent of the surface's points across and up the view.
 Frame Framing(vtkPolyData* surface, const double direction[3], const double up[3])
 {
@@ -214,7 +213,29 @@ Frame Framing(vtkPolyData* surface, const double direction[3], const double up[3
   f.Height = std::max(hi[1] - lo[1], 1e-9);
   return f;
 }
-} // namespace
+
+void FrameCamera(vtkCamera* camera, const Frame& frame, const double direction[3],
+  const double up[3], double diagonal, double panelW, double panelH, double band, double margin)
+{
+  // Parallel projection: the object fills the panel below the text band,
+  // with a small margin, whatever its shape.
+  const double availW = panelW - 2 * margin, availH = panelH - band - 2 * margin;
+  const double perPixel = std::max(frame.Width / availW, frame.Height / std::max(availH, 1.0));
+  camera->ParallelProjectionOn();
+  double focal[3], position[3];
+  for (int k = 0; k < 3; ++k)
+  {
+    // The object's centre sits band / 2 pixels below the panel's centre.
+    focal[k] = frame.Center[k] + up[k] * perPixel * band / 2;
+    position[k] = focal[k] - direction[k] * 2 * diagonal;
+  }
+  camera->SetFocalPoint(focal);
+  camera->SetPosition(position);
+  camera->SetViewUp(up);
+  camera->SetParallelScale(perPixel * panelH / 2);
+}
+} // namespace render
+using namespace render;
 
 void PictureSize(const RenderOptions& options, int& width, int& height)
 {
@@ -295,23 +316,7 @@ bool RenderPicture(vtkPolyData* surface, const char* inputNormals, vtkPolyData* 
     light->SetIntensity(1.1);
     ren->AddLight(light);
     window->AddRenderer(ren);
-    // Parallel projection: the object fills the panel below the text band,
-    // with a small margin, whatever its shape.
-    const double availW = panelW - 2 * margin, availH = panelH - band - 2 * margin;
-    const double perPixel = std::max(frame.Width / availW, frame.Height / std::max(availH, 1.0));
-    vtkCamera* camera = ren->GetActiveCamera();
-    camera->ParallelProjectionOn();
-    double focal[3], position[3];
-    for (int k = 0; k < 3; ++k)
-    {
-      // The object's centre sits band / 2 pixels below the panel's centre.
-      focal[k] = frame.Center[k] + up[k] * perPixel * band / 2;
-      position[k] = focal[k] - direction[k] * 2 * diagonal;
-    }
-    camera->SetFocalPoint(focal);
-    camera->SetPosition(position);
-    camera->SetViewUp(up);
-    camera->SetParallelScale(perPixel * panelH / 2);
+    FrameCamera(ren->GetActiveCamera(), frame, direction, up, diagonal, panelW, panelH, band, margin);
     AddText(ren, title, titleFont, true, titleTop, panelH);
     AddText(ren, note, noteFont, false, noteTop, panelH);
     return ren.Get();

@@ -86,6 +86,14 @@ int RunPieces(Options opt, dg::Processes& procs)
     procs.Barrier(); // as in agreeOrFail
     return 2;
   }
+  if (opt.P.Curvature)
+  {
+    if (root)
+      std::cerr << Program << ": --curvature is not available with " << size
+                << " processes (the curvature stage runs in one process)\n";
+    procs.Barrier(); // as in agreeOrFail
+    return 2;
+  }
   if (root)
   {
     std::cerr << Program << ": " << size << " processes: the sharp-features stage is not "

@@ -5,6 +5,7 @@
 #include "dgBuiltinShape.h"
 #include "dgImageInput.h"
 #include "dgRender.h"
+#include "dgRenderCurvature.h"
 #include "dgLabels.h"
 #include "dgPipeline.h"
 #include "dgProcesses.h"
@@ -31,6 +32,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <iomanip>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -316,6 +318,8 @@ int main(int argc, char* argv[])
     return writeFailure(base + "_surface.vtp");
   if (!writeVtp(features, base + "_features.vtp"))
     return writeFailure(base + "_features.vtp");
+  if (opt.P.Curvature && !writeVtp(pipelinePtr->Creases(), base + "_creases.vtp"))
+    return writeFailure(base + "_creases.vtp");
   if (opt.Ply)
   {
     vtkNew<vtkPLYWriter> w;
@@ -342,6 +346,10 @@ int main(int argc, char* argv[])
     std::string error;
     const std::string png = files.Temporary(base + ".png");
     if (!dg::RenderPicture(result, inputNormalsName, features, ro, png, error))
+      return Fail(error);
+    if (opt.P.Curvature &&
+      !dg::RenderCurvaturePicture(result, pipelinePtr->Creases(), opt.Width,
+        files.Temporary(base + "_curvature.png"), error))
       return Fail(error);
     lap("render");
   }
@@ -383,6 +391,21 @@ int main(int argc, char* argv[])
   if (opt.P.Sharpen && !opt.Interfaces)
     std::cout << "  sharp features: crease test " << creaseTime << " s, output field " << fieldTime
               << " s\n";
+  if (opt.P.Curvature)
+  {
+    vtkCorrectedCurvatureFilter* cc = pipelinePtr->Curvature;
+    const double area = cc->GetArea(), volume = cc->GetVolume();
+    std::cout << "  curvature (ball " << opt.P.CurvatureRadius << " voxels): area " << area;
+    if (std::isfinite(volume) && volume != 0)
+      std::cout << ", volume " << std::abs(volume) << ", specific surface area "
+                << area / std::abs(volume);
+    std::cout << ", integral of H " << cc->GetIntegralMeanCurvature() << " (creases "
+              << cc->GetCreaseIntegralMeanCurvature() << "), Euler characteristic "
+              << std::fixed << std::setprecision(4)
+              << cc->GetIntegralGaussianCurvature() / (2 * M_PI) + 0.0 << std::defaultfloat
+              << " by Gauss-Bonnet, "
+              << cc->GetEulerCharacteristic() << " by V - E + F\n";
+  }
   for (const auto& f : files.Finals)
     std::cout << "  wrote " << f << "\n";
   return 0;

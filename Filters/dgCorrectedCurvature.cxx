@@ -74,7 +74,7 @@ CorrectedMeasures PolygonMeasures(int corners, const double* x, const double* u)
 bool ComputeCorrectedCurvatures(std::int64_t numberOfPoints, const double* points,
   const std::vector<std::int64_t>& offsets, const std::vector<std::int64_t>& connectivity,
   const double* normals, const int* region, const CurvatureParameters& par,
-  CurvatureResult& result, std::string* error)
+  CurvatureResult& result, std::string* error, const unsigned char* ghost)
 {
   auto fail = [&](const std::string& message) {
     if (error)
@@ -112,67 +112,202 @@ bool ComputeCorrectedCurvatures(std::int64_t numberOfPoints, const double* point
   const auto sameSide = [&](std::int64_t f, std::int64_t g) {
     return !region || region[f] == region[g];
   };
+  const auto isGhost = [&](std::int64_t f) { return ghost && ghost[f] != 0; };
 
-  // Each face's measures, with corner normals from its own side's faces.
-  std::vector<CorrectedMeasures> measures(F);
+  // Each face's measures, with corner normals from the faces around each
+  // corner: all of them (perSide false), or those of the face's own region.
   std::vector<V3> centre(F);
+  const auto faceMeasures = [&](bool perSide, std::vector<CorrectedMeasures>& measures) {
+    measures.assign(F, CorrectedMeasures());
+    vtkSMPTools::For(0, F, [&](std::int64_t begin, std::int64_t end) {
+      std::vector<double> x, u;
+      for (std::int64_t f = begin; f < end; ++f)
+      {
+        const int m = static_cast<int>(offsets[f + 1] - offsets[f]);
+        x.assign(3 * m, 0.0);
+        u.assign(3 * m, 0.0);
+        V3 c = V3::Zero();
+        for (int i = 0; i < m; ++i)
+        {
+          const std::int64_t p = connectivity[offsets[f] + i];
+          const V3 xp = At(points, p);
+          c += xp;
+          V3 up = V3::Zero();
+          for (std::int64_t k = start[p]; k < start[p + 1]; ++k)
+            if (!perSide || sameSide(f, around[k]))
+              up += At(normals, around[k]);
+          up = up.norm() > 0 ? up.normalized() : At(normals, f);
+          for (int d = 0; d < 3; ++d)
+          {
+            x[3 * i + d] = xp[d];
+            u[3 * i + d] = up[d];
+          }
+        }
+        centre[f] = m > 0 ? V3(c / m) : c;
+        measures[f] = PolygonMeasures(m, x.data(), u.data());
+      }
+    });
+  };
+  std::vector<CorrectedMeasures> measures;
+  faceMeasures(region != nullptr, measures);
+  // Per side, a face with a corner on another region's face has corner
+  // normals from one side of that corner only, which understate how the
+  // normal turns across it: such faces lend no measures to balls that hold
+  // faces whose corners are all inside their region (their ball still
+  // measures them, from those faces).
+  std::vector<char> interior(F, 1);
+  if (region)
+    for (std::int64_t f = 0; f < F; ++f)
+      for (std::int64_t k = offsets[f]; k < offsets[f + 1] && interior[f]; ++k)
+      {
+        const std::int64_t p = connectivity[k];
+        for (std::int64_t j = start[p]; j < start[p + 1]; ++j)
+          if (!sameSide(f, around[j]))
+          {
+            interior[f] = 0;
+            break;
+          }
+      }
+  // The normal of side `f` at point p: the mean of f's region's faces
+  // around p.
+  const auto cornerNormal = [&](std::int64_t f, std::int64_t p) {
+    V3 up = V3::Zero();
+    for (std::int64_t k = start[p]; k < start[p + 1]; ++k)
+      if (sameSide(f, around[k]))
+        up += At(normals, around[k]);
+    return up.norm() > 0 ? V3(up.normalized()) : At(normals, f);
+  };
+  // The integral of G over the whole surface: the area the continuous field
+  // (corner normals over all faces around a corner) sweeps on the unit
+  // sphere, each triangle (b, x_i, x_{i+1}) of a face as the exact solid
+  // angle of its three unit normals. Summed over a closed surface this is
+  // 2 pi times its Euler characteristic whatever the field, even across
+  // creases, where the first-order mu2 falls short.
+  const auto solidAngle = [](const V3& a, const V3& b, const V3& c) {
+    return 2.0 * std::atan2(a.dot(b.cross(c)), 1.0 + a.dot(b) + b.dot(c) + c.dot(a));
+  };
+  std::vector<double> sweep(F, 0.0);
   vtkSMPTools::For(0, F, [&](std::int64_t begin, std::int64_t end) {
-    std::vector<double> x, u;
+    std::vector<V3> u;
     for (std::int64_t f = begin; f < end; ++f)
     {
       const int m = static_cast<int>(offsets[f + 1] - offsets[f]);
-      x.assign(3 * m, 0.0);
-      u.assign(3 * m, 0.0);
-      V3 c = V3::Zero();
+      if (m < 3)
+        continue;
+      u.clear();
+      V3 ub = V3::Zero();
       for (int i = 0; i < m; ++i)
       {
         const std::int64_t p = connectivity[offsets[f] + i];
-        const V3 xp = At(points, p);
-        c += xp;
         V3 up = V3::Zero();
         for (std::int64_t k = start[p]; k < start[p + 1]; ++k)
-          if (sameSide(f, around[k]))
-            up += At(normals, around[k]);
-        up = up.norm() > 0 ? up.normalized() : At(normals, f);
-        for (int d = 0; d < 3; ++d)
-        {
-          x[3 * i + d] = xp[d];
-          u[3 * i + d] = up[d];
-        }
+          up += At(normals, around[k]);
+        u.push_back(up.norm() > 0 ? V3(up.normalized()) : At(normals, f));
+        ub += u.back();
       }
-      centre[f] = m > 0 ? V3(c / m) : c;
-      measures[f] = PolygonMeasures(m, x.data(), u.data());
+      ub = ub.norm() > 0 ? V3(ub.normalized()) : At(normals, f);
+      double a = 0;
+      for (int i = 0; i < m; ++i)
+        a += solidAngle(ub, u[i], u[(i + 1) % m]);
+      sweep[f] = a;
     }
   });
 
-  result.Area = result.TotalMean = result.TotalGaussian = 0;
+  // The faces' own complex: each edge with the faces on it, from the sorted
+  // (low point, high point, face) triples.
+  struct EdgeFace
+  {
+    std::int64_t A, B, F;
+    bool operator<(const EdgeFace& o) const
+    {
+      return A != o.A ? A < o.A : (B != o.B ? B < o.B : F < o.F);
+    }
+  };
+  std::vector<EdgeFace> edges;
+  edges.reserve(connectivity.size());
   double edgeSum = 0;
   std::int64_t edgeCount = 0;
   for (std::int64_t f = 0; f < F; ++f)
   {
-    result.Area += measures[f].Mu0;
-    result.TotalMean += 0.5 * measures[f].Mu1;
-    result.TotalGaussian += measures[f].Mu2;
     const std::int64_t m = offsets[f + 1] - offsets[f];
     for (std::int64_t i = 0; i < m; ++i)
     {
-      edgeSum += (At(points, connectivity[offsets[f] + i]) -
-        At(points, connectivity[offsets[f] + (i + 1) % m]))
-                   .norm();
+      const std::int64_t p = connectivity[offsets[f] + i], q = connectivity[offsets[f] + (i + 1) % m];
+      edges.push_back({ std::min(p, q), std::max(p, q), f });
+      edgeSum += (At(points, p) - At(points, q)).norm();
       ++edgeCount;
     }
   }
+  std::sort(edges.begin(), edges.end());
+
+  // Whole-surface figures over the faces this call owns (not ghost). The
+  // Euler characteristic counts each edge and point for the share of its
+  // faces owned here, so that pieces' figures add up to the whole's.
+  result.Area = result.TotalGaussian = 0;
+  double volume = 0, chi = 0;
+  for (std::int64_t f = 0; f < F; ++f)
+  {
+    if (isGhost(f))
+      continue;
+    result.Area += measures[f].Mu0;
+    result.TotalGaussian += sweep[f];
+    chi += 1;
+    const std::int64_t m = offsets[f + 1] - offsets[f];
+    const V3 x0 = At(points, connectivity[offsets[f]]);
+    for (std::int64_t i = 1; i + 1 < m; ++i)
+      volume += x0.dot(At(points, connectivity[offsets[f] + i])
+                         .cross(At(points, connectivity[offsets[f] + i + 1]))) / 6.0;
+  }
+  for (std::int64_t p = 0; p < numberOfPoints; ++p)
+  {
+    std::int64_t own = 0;
+    for (std::int64_t k = start[p]; k < start[p + 1]; ++k)
+      own += isGhost(around[k]) ? 0 : 1;
+    if (own > 0)
+      chi += static_cast<double>(own) / static_cast<double>(start[p + 1] - start[p]);
+  }
+  result.BoundaryEdges = 0;
+  result.CreaseEdges.clear();
+  result.CreaseAngle.clear();
+  result.CreaseLength.clear();
+  struct Crease
+  {
+    std::int64_t A, B, F, G;
+  };
+  std::vector<Crease> creases;
+  for (std::size_t i = 0; i < edges.size();)
+  {
+    std::size_t j = i;
+    std::int64_t own = 0;
+    while (j < edges.size() && edges[j].A == edges[i].A && edges[j].B == edges[i].B)
+      own += isGhost(edges[j++].F) ? 0 : 1;
+    const std::int64_t n = static_cast<std::int64_t>(j - i);
+    if (own > 0)
+    {
+      chi -= static_cast<double>(own) / static_cast<double>(n);
+      if (n == 1)
+        ++result.BoundaryEdges;
+    }
+    // A crease edge is reported by the piece owning its first face, once.
+    if (region && n == 2 && !isGhost(edges[i].F) && region[edges[i].F] != region[edges[i + 1].F])
+      creases.push_back({ edges[i].A, edges[i].B, edges[i].F, edges[i + 1].F });
+    i = j;
+  }
+  result.EulerCharacteristic = static_cast<std::int64_t>(std::llround(chi));
+  result.Volume = result.BoundaryEdges ? std::nan("") : volume;
+
   // A face cut by the ball's sphere counts for the share of it inside,
   // estimated from its centre's distance d: 1/2 + (R - d) / l, clamped to
   // [0, 1], l the mean edge length (exact for a square face of side l moving
   // across a plane, and the sphere is locally a plane for R >> l).
-  const double l = edgeCount ? edgeSum / edgeCount : 1.0;
+  const double l = par.EdgeLength > 0 ? par.EdgeLength : (edgeCount ? edgeSum / edgeCount : 1.0);
   const double R = par.Radius, reach = R + 0.5 * l;
   std::unordered_map<std::int64_t, std::vector<std::int64_t>> grid;
   for (std::int64_t f = 0; f < F; ++f)
     grid[Key(centre[f], reach)].push_back(f);
 
   result.Mean.assign(F, 0.0);
+  result.BallNormal.assign(3 * F, 0.0);
   result.Gaussian.assign(F, 0.0);
   result.K1.assign(F, 0.0);
   result.K2.assign(F, 0.0);
@@ -184,32 +319,37 @@ bool ComputeCorrectedCurvatures(std::int64_t numberOfPoints, const double* point
       double mu0 = 0, mu1 = 0, mu2 = 0;
       Eigen::Matrix3d muXY = Eigen::Matrix3d::Zero();
       V3 n = V3::Zero();
-      for (int dx = -1; dx <= 1; ++dx)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dz = -1; dz <= 1; ++dz)
-          {
-            const auto it = grid.find(Key(centre[f], reach, dx, dy, dz));
-            if (it == grid.end())
-              continue;
-            for (std::int64_t g : it->second)
+      // Interior faces first; all of the region's faces when the ball holds
+      // none (a strip narrower than a face ring).
+      for (int pass = 0; pass < 2 && !(mu0 > 0); ++pass)
+        for (int dx = -1; dx <= 1; ++dx)
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dz = -1; dz <= 1; ++dz)
             {
-              if (!sameSide(f, g))
+              const auto it = grid.find(Key(centre[f], reach, dx, dy, dz));
+              if (it == grid.end())
                 continue;
-              const double d = (centre[g] - centre[f]).norm();
-              const double w = std::min(1.0, std::max(0.0, 0.5 + (R - d) / l));
-              if (w <= 0)
-                continue;
-              const CorrectedMeasures& m = measures[g];
-              mu0 += w * m.Mu0;
-              mu1 += w * m.Mu1;
-              mu2 += w * m.Mu2;
-              muXY += w * Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(m.MuXY);
-              n += w * At(normals, g);
+              for (std::int64_t g : it->second)
+              {
+                if (!sameSide(f, g) || (pass == 0 && !interior[g]))
+                  continue;
+                const double d = (centre[g] - centre[f]).norm();
+                const double w = std::min(1.0, std::max(0.0, 0.5 + (R - d) / l));
+                if (w <= 0)
+                  continue;
+                const CorrectedMeasures& m = measures[g];
+                mu0 += w * m.Mu0;
+                mu1 += w * m.Mu1;
+                mu2 += w * m.Mu2;
+                muXY += w * Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(m.MuXY);
+                n += w * At(normals, g);
+              }
             }
-          }
-      if (!(mu0 > 0) || n.norm() == 0)
+      if (isGhost(f) || !(mu0 > 0) || n.norm() == 0)
         continue;
       n.normalize();
+      for (int d = 0; d < 3; ++d)
+        result.BallNormal[3 * f + d] = n[d];
       result.Mean[f] = mu1 / (2 * mu0);
       result.Gaussian[f] = mu2 / mu0;
       // Principal curvatures: the symmetrised anisotropic measure in the
@@ -223,7 +363,17 @@ bool ComputeCorrectedCurvatures(std::int64_t numberOfPoints, const double* point
       // The measure's tangential eigenvalues are the principal curvatures
       // with the opposite sign (muXY pairs the normal's change along Y with
       // X x u, a quarter turn away), so the smallest is k1.
-      const double k1 = -eig.eigenvalues()[0], k2 = -eig.eigenvalues()[1];
+      // The ball's faces turn away from its mean normal's plane, so the
+      // projected measure falls short of the curvature along each direction
+      // by about the mean cos^2 of that direction's turn (12 % for a ball of
+      // 7 on a tube of radius 10): most along the more curved direction.
+      // mu1 is exact, so the trace's deficit is given back to k1 and k2 in
+      // proportion to their size.
+      double k1 = -eig.eigenvalues()[0], k2 = -eig.eigenvalues()[1];
+      const double deficit = mu1 / mu0 - (k1 + k2), size = std::abs(k1) + std::abs(k2);
+      const double share1 = size > 0 ? std::abs(k1) / size : 0.5;
+      k1 += deficit * share1;
+      k2 += deficit * (1 - share1);
       const Eigen::Vector2d e1 = eig.eigenvectors().col(0), e2 = eig.eigenvectors().col(1);
       const V3 d1 = (e1[0] * t1 + e1[1] * t2).normalized();
       const V3 d2 = (e2[0] * t1 + e2[1] * t2).normalized();
@@ -236,6 +386,39 @@ bool ComputeCorrectedCurvatures(std::int64_t numberOfPoints, const double* point
       }
     }
   });
+
+  // The integral of H: per side, each interior face's own measure and each
+  // boundary face's ball estimate over its area, plus what the creases hold;
+  // with one region, the faces' measures.
+  result.TotalMean = 0;
+  for (std::int64_t f = 0; f < F; ++f)
+    if (!isGhost(f))
+      result.TotalMean += interior[f] ? 0.5 * measures[f].Mu1 : result.Mean[f] * measures[f].Mu0;
+
+  // Each crease edge: the normal's turn from one side's normal at the edge
+  // (its corner normals at the edge's two ends) to the other's, convex when
+  // the second face's centre lies below the first side's plane more than
+  // the first's lies below the second's; its length along the crease
+  // (t = n_a x n_b), so that a staircase of voxel edges along a slanted
+  // crease counts for the crease's own length.
+  result.CreaseTotalMean = 0;
+  for (const Crease& c : creases)
+  {
+    const V3 na = (cornerNormal(c.F, c.A) + cornerNormal(c.F, c.B)).normalized();
+    const V3 nb = (cornerNormal(c.G, c.A) + cornerNormal(c.G, c.B)).normalized();
+    const V3 axis = na.cross(nb);
+    const double turn = std::atan2(axis.norm(), na.dot(nb));
+    const bool convex = (centre[c.G] - centre[c.F]).dot(na - nb) <= 0;
+    const double angle = convex ? turn : -turn;
+    const V3 edge = At(points, c.B) - At(points, c.A);
+    const double length = axis.norm() > 1e-6 ? std::abs(edge.dot(axis.normalized())) : edge.norm();
+    result.CreaseEdges.push_back(c.A);
+    result.CreaseEdges.push_back(c.B);
+    result.CreaseAngle.push_back(angle);
+    result.CreaseLength.push_back(length);
+    result.CreaseTotalMean += 0.5 * angle * length;
+  }
+  result.TotalMean += result.CreaseTotalMean;
   return true;
 }
 

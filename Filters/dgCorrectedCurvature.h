@@ -44,6 +44,10 @@ CorrectedMeasures PolygonMeasures(int corners, const double* x, const double* u)
 struct CurvatureParameters
 {
   double Radius = 3.0; // ball radius, the positions' units
+  // The width of the ramp by which a face cut by the ball's sphere counts
+  // (the positions' units); 0: the faces' mean edge length. Pieces of one
+  // surface pass the whole surface's, so that they agree with one process.
+  double EdgeLength = 0.0;
 };
 
 struct CurvatureResult
@@ -53,19 +57,38 @@ struct CurvatureResult
   std::vector<double> Gaussian; // G = k1 k2
   std::vector<double> K1, K2;   // k1 >= k2
   std::vector<double> D1, D2;   // 3 per face: unit principal directions
-  // Whole surface (each face once).
-  double Area = 0;              // sum of mu0
-  double TotalMean = 0;         // integral of H: sum of mu1 / 2
-  double TotalGaussian = 0;     // integral of G: sum of mu2
+  std::vector<double> BallNormal; // 3 per face: the normalised mean of u over the ball
+  // Whole surface (each face once; per side where regions are given).
+  double Area = 0;          // sum of mu0
+  double TotalMean = 0;     // integral of H: faces' mu1 / 2, plus CreaseTotalMean per side
+  double TotalGaussian = 0; // integral of G: the exact solid angle the continuous field
+                            // sweeps (2 pi chi on a closed surface, creases and corners included)
+  std::int64_t EulerCharacteristic = 0; // V - E + F of the faces' own complex
+  std::int64_t BoundaryEdges = 0;       // edges used by one face only
+  double Volume = 0; // enclosed by the faces (divergence theorem); NaN with boundary edges
+  // Per-side mode: the edges between faces of two regions, each once, as
+  // point pairs, with the angle (radians) by which the normal turns across
+  // the edge, from one side's normal at the edge to the other's: positive
+  // where the surface is convex (a cube's edges), negative where it is
+  // concave; and the edge's length along the crease. The crease's mean
+  // curvature measure is angle times length (mu1 concentrated on the line).
+  std::vector<std::int64_t> CreaseEdges; // 2 per edge
+  std::vector<double> CreaseAngle;       // 1 per edge, radians
+  std::vector<double> CreaseLength;      // 1 per edge
+  double CreaseTotalMean = 0;            // sum of angle * length / 2
 };
 
 /// points: 3 per point; polygons as offsets/connectivity (VTK's layout);
 /// normals: 3 per face, unit; region: one per face or null (one region).
+/// ghost: one per face or null; a ghost face (non-zero) lends its measures
+/// to its neighbours' balls but gets no result of its own and is left out of
+/// the whole-surface figures and the crease edges (a piece of a distributed
+/// surface, whose ghost faces reach at least the ball's radius).
 /// Returns false with a message on inconsistent input.
 bool ComputeCorrectedCurvatures(std::int64_t numberOfPoints, const double* points,
   const std::vector<std::int64_t>& offsets, const std::vector<std::int64_t>& connectivity,
   const double* normals, const int* region, const CurvatureParameters& parameters,
-  CurvatureResult& result, std::string* error = nullptr);
+  CurvatureResult& result, std::string* error = nullptr, const unsigned char* ghost = nullptr);
 
 } // namespace dg
 
