@@ -309,6 +309,35 @@ check(0 < n_sharp < n_lines and n_sharp == vsharp.GetOutput(1).GetNumberOfLines(
       "sharp feature lines: %d (C++ %d), fewer than AT's %d"
       % (n_sharp, vsharp.GetOutput(1).GetNumberOfLines(), n_lines))
 check(sharp_lines.GetCellData().GetArray("FeatureAngle") is not None, "FeatureAngle on the lines")
+
+# Corrected curvature after Sharp Features, its defaults, against the class.
+check("CorrectedCurvature" in globals(), "Corrected Curvature available")
+curv = CorrectedCurvature(Input=sharp)
+check(curv.Radius == 7 and curv.PerSide == 1, "Corrected Curvature defaults: ball 7 voxels, per side")
+curv.UpdatePipeline()
+curv_surface = servermanager.Fetch(curv, idx=0)
+curv_creases = servermanager.Fetch(curv, idx=1)
+from digitalgeometry import vtkCorrectedCurvatureFilter  # noqa: E402
+
+vcurv = vtkCorrectedCurvatureFilter()
+vcurv.SetInputConnection(vsharp.GetOutputPort())
+vcurv.Update()
+got_h = curv_surface.GetCellData().GetArray("CorrectedMeanCurvature")
+ref_h = vcurv.GetOutput(0).GetCellData().GetArray("CorrectedMeanCurvature")
+check(got_h is not None and ref_h is not None and got_h.GetNumberOfTuples() == ref_h.GetNumberOfTuples(),
+      "plugin output has CorrectedMeanCurvature")
+if got_h is not None and ref_h is not None:
+    diff = max(abs(got_h.GetValue(c) - ref_h.GetValue(c)) for c in range(0, ref_h.GetNumberOfTuples(), 5))
+    check(diff == 0.0, "plugin CorrectedMeanCurvature equals the C++ filter's (max diff %g)" % diff)
+chi = curv_surface.GetFieldData().GetArray("GaussBonnetCharacteristic")
+euler = curv_surface.GetFieldData().GetArray("EulerCharacteristic")
+check(chi is not None and euler is not None and abs(chi.GetValue(0) - euler.GetValue(0)) < 0.01,
+      "Gauss-Bonnet agrees with V - E + F (%s, %s)"
+      % (chi.GetValue(0) if chi else None, euler.GetValue(0) if euler else None))
+check(curv_creases.GetNumberOfLines() == vcurv.GetOutput(1).GetNumberOfLines()
+      and curv_creases.GetCellData().GetArray("CreaseAngle") is not None,
+      "creases with CreaseAngle: %d" % curv_creases.GetNumberOfLines())
+Delete(curv)
 Delete(sharp)
 
 # RHT normals through the plugin (paper's defaults), against the class.
