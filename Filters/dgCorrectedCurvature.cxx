@@ -74,7 +74,8 @@ CorrectedMeasures PolygonMeasures(int corners, const double* x, const double* u)
 bool ComputeCorrectedCurvatures(std::int64_t numberOfPoints, const double* points,
   const std::vector<std::int64_t>& offsets, const std::vector<std::int64_t>& connectivity,
   const double* normals, const int* region, const CurvatureParameters& par,
-  CurvatureResult& result, std::string* error, const unsigned char* ghost)
+  CurvatureResult& result, std::string* error, const unsigned char* ghost,
+  const std::int64_t* faceIds)
 {
   auto fail = [&](const std::string& message) {
     if (error)
@@ -288,11 +289,19 @@ bool ComputeCorrectedCurvatures(std::int64_t numberOfPoints, const double* point
       if (n == 1)
         ++result.BoundaryEdges;
     }
-    // A crease edge is reported by the piece owning its first face, once.
-    if (region && n == 2 && !isGhost(edges[i].F) && region[edges[i].F] != region[edges[i + 1].F])
-      creases.push_back({ edges[i].A, edges[i].B, edges[i].F, edges[i + 1].F });
+    // A crease edge is reported once, by the piece owning its face of
+    // smaller id, and oriented from that face.
+    if (region && n == 2 && region[edges[i].F] != region[edges[i + 1].F])
+    {
+      std::int64_t f = edges[i].F, g = edges[i + 1].F;
+      if (faceIds ? faceIds[g] < faceIds[f] : g < f)
+        std::swap(f, g);
+      if (!isGhost(f))
+        creases.push_back({ edges[i].A, edges[i].B, f, g });
+    }
     i = j;
   }
+  result.EulerShare = chi;
   result.EulerCharacteristic = static_cast<std::int64_t>(std::llround(chi));
   result.Volume = result.BoundaryEdges ? std::nan("") : volume;
 

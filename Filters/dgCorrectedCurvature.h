@@ -64,6 +64,7 @@ struct CurvatureResult
   double TotalGaussian = 0; // integral of G: the exact solid angle the continuous field
                             // sweeps (2 pi chi on a closed surface, creases and corners included)
   std::int64_t EulerCharacteristic = 0; // V - E + F of the faces' own complex
+  double EulerShare = 0; // the same before rounding: a piece's share, which pieces add up
   std::int64_t BoundaryEdges = 0;       // edges used by one face only
   double Volume = 0; // enclosed by the faces (divergence theorem); NaN with boundary edges
   // Per-side mode: the edges between faces of two regions, each once, as
@@ -84,11 +85,14 @@ struct CurvatureResult
 /// to its neighbours' balls but gets no result of its own and is left out of
 /// the whole-surface figures and the crease edges (a piece of a distributed
 /// surface, whose ghost faces reach at least the ball's radius).
+/// faceIds: one per face or null; global ids, so that pieces agree on which
+/// of a crease edge's two faces reports it (the smaller id's owner).
 /// Returns false with a message on inconsistent input.
 bool ComputeCorrectedCurvatures(std::int64_t numberOfPoints, const double* points,
   const std::vector<std::int64_t>& offsets, const std::vector<std::int64_t>& connectivity,
   const double* normals, const int* region, const CurvatureParameters& parameters,
-  CurvatureResult& result, std::string* error = nullptr, const unsigned char* ghost = nullptr);
+  CurvatureResult& result, std::string* error = nullptr, const unsigned char* ghost = nullptr,
+  const std::int64_t* faceIds = nullptr);
 
 } // namespace dg
 

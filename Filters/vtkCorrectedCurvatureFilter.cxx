@@ -1,10 +1,12 @@
 #include "vtkCorrectedCurvatureFilter.h"
 
 #include "dgCorrectedCurvature.h"
+#include "dgCurvatureHalo.h"
 #include "dgPieces.h"
 #include "dgPipelineAbort.h"
 
 #include <vtkCellArray.h>
+#include <vtkCellArrayIterator.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
 #include <vtkDataArrayRange.h>
@@ -15,6 +17,9 @@
 #include <vtkInformationVector.h>
 #include <vtkMultiProcessController.h>
 #include <vtkObjectFactory.h>
+#include <vtkPointData.h>
+#include <vtkSmartPointer.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
 #include <vtkPolyData.h>
 
 #include <algorithm>
@@ -74,18 +79,23 @@ vtkDoubleArray* CellArray(const char* name, int components, vtkIdType n)
 }
 } // namespace
 
+namespace
+{
+vtkDataArray* GlobalIds(vtkDataSetAttributes* a, vtkIdType n)
+{
+  vtkDataArray* ids = a->GetGlobalIds() ? a->GetGlobalIds() : a->GetArray("GlobalIds");
+  if (!ids || ids->GetNumberOfComponents() != 1 || ids->GetNumberOfTuples() != n ||
+    ids->GetDataType() == VTK_FLOAT || ids->GetDataType() == VTK_DOUBLE)
+    return nullptr;
+  return ids;
+}
+} // namespace
+
 int vtkCorrectedCurvatureFilter::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  if (vtkMultiProcessController* c = dg::PieceController(outputVector->GetInformationObject(0)))
-  {
-    if (c->GetLocalProcessId() == 0)
-    {
-      vtkErrorMacro("The corrected-curvature stage runs in one process only (its balls would "
-                    "need the neighbouring pieces' faces); run it on the gathered surface.");
-    }
-    return 0;
-  }
+  vtkMultiProcessController* controller = dg::PieceController(outputVector->GetInformationObject(0));
+  const int rank = controller ? controller->GetLocalProcessId() : 0;
   Internals& internal = *this->Internal;
   const auto abortGuard = internal.Abort.Begin(this, outputVector);
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
@@ -103,45 +113,54 @@ int vtkCorrectedCurvatureFilter::RequestData(
   {
     return internal.Abort.Abort(outputVector);
   }
+  // Parameters are the same on every process: each refuses them alone.
   if (!(this->Radius > 0) || !std::isfinite(this->Radius))
   {
-    vtkErrorMacro("Invalid parameters: Radius must be a positive number (it is " << this->Radius
-                                                                                << ").");
+    if (rank == 0)
+      vtkErrorMacro("Invalid parameters: Radius must be a positive number (it is " << this->Radius
+                                                                                  << ").");
     return 0;
   }
+  // Local checks; under pieces every process learns whether all passed, and
+  // the one that found a problem says it.
+  std::string problem;
+  auto agree = [&](bool ok) { return dg::AllPiecesOk(outputVector->GetInformationObject(0), ok); };
+  auto refuse = [&]() {
+    if (!problem.empty())
+      vtkErrorMacro(<< (controller ? "Piece " + std::to_string(rank) + ": " : std::string()) << problem);
+    return 0;
+  };
   vtkCellArray* polys = input->GetPolys();
   const vtkIdType nFaces = polys ? polys->GetNumberOfCells() : 0;
-  if (nFaces == 0)
-  {
-    vtkErrorMacro("The input has no polygons: the corrected-curvature filter works on a surface.");
-    return 0;
-  }
+  const vtkIdType nCells = input->GetNumberOfCells();
+  const vtkIdType nPoints = input->GetNumberOfPoints();
+  const vtkIdType polyOffset = input->GetNumberOfVerts() + input->GetNumberOfLines();
+  if (nFaces == 0 && !controller)
+    problem = "The input has no polygons: the corrected-curvature filter works on a surface.";
 
   // ParaView sends an empty name until it knows the input's arrays: that
   // means the default (the active normals, FeatureRegion).
-  int association = -1;
-  vtkDataArray* normals = this->GetInputArrayToProcess(0, input, association);
-  if (!normals)
-  {
-    normals = input->GetCellData()->GetNormals();
-    association = vtkDataObject::FIELD_ASSOCIATION_CELLS;
-  }
-  if (!normals)
-  {
-    vtkErrorMacro("No cell normal field: the input has no active cell normals (run "
-                  "vtkSharpFeaturesFilter or another normal estimator first, or choose the "
-                  "array with SetInputArrayToProcess).");
-    return 0;
-  }
-  const char* normalsName = normals->GetName() ? normals->GetName() : "(unnamed)";
-  if (association != vtkDataObject::FIELD_ASSOCIATION_CELLS || normals->GetNumberOfComponents() != 3)
-  {
-    vtkErrorMacro("The normal field '" << normalsName
-                                       << "' must be cell data with 3 components.");
-    return 0;
-  }
+  vtkDataArray* normals = nullptr;
   vtkDataArray* regions = nullptr;
-  if (this->PerSide)
+  if (problem.empty() && nFaces > 0)
+  {
+    int association = -1;
+    normals = this->GetInputArrayToProcess(0, input, association);
+    if (!normals)
+    {
+      normals = input->GetCellData()->GetNormals();
+      association = vtkDataObject::FIELD_ASSOCIATION_CELLS;
+    }
+    if (!normals)
+      problem = "No cell normal field: the input has no active cell normals (run "
+                "vtkSharpFeaturesFilter or another normal estimator first, or choose the "
+                "array with SetInputArrayToProcess).";
+    else if (association != vtkDataObject::FIELD_ASSOCIATION_CELLS ||
+      normals->GetNumberOfComponents() != 3)
+      problem = std::string("The normal field '") + (normals->GetName() ? normals->GetName() : "") +
+        "' must be cell data with 3 components.";
+  }
+  if (problem.empty() && nFaces > 0 && this->PerSide)
   {
     int regionAssociation = -1;
     regions = this->GetInputArrayToProcess(1, input, regionAssociation);
@@ -149,54 +168,102 @@ int vtkCorrectedCurvatureFilter::RequestData(
       regions = input->GetCellData()->GetArray("FeatureRegion");
     else if (regionAssociation != vtkDataObject::FIELD_ASSOCIATION_CELLS ||
       regions->GetNumberOfComponents() != 1)
-    {
-      vtkErrorMacro("The region array '" << (regions->GetName() ? regions->GetName() : "")
-                                         << "' must be cell data with one component.");
-      return 0;
-    }
+      problem = std::string("The region array '") + (regions->GetName() ? regions->GetName() : "") +
+        "' must be cell data with one component.";
   }
+  vtkDataArray* cellIds = controller ? GlobalIds(input->GetCellData(), nCells) : nullptr;
+  vtkDataArray* pointIds = controller ? GlobalIds(input->GetPointData(), nPoints) : nullptr;
+  if (problem.empty() && controller && nFaces > 0 && (!cellIds || !pointIds))
+    problem = "A distributed run needs cell and point global ids (the 'GlobalIds' arrays of "
+              "vtkDigitalSurfaceFilter) to match faces and points across pieces.";
 
-  const vtkIdType nCells = input->GetNumberOfCells();
-  const vtkIdType nPoints = input->GetNumberOfPoints();
-  const vtkIdType polyOffset = input->GetNumberOfVerts() + input->GetNumberOfLines();
-  std::vector<double> u(3 * nFaces), xyz(3 * nPoints);
-  std::vector<int> region;
+  // The piece's own faces (ghost cells of the input are left out: their
+  // owners send them).
+  dg::CurvatureMesh mesh;
+  std::vector<vtkIdType> ownCell; // input cell of each own face
+  vtkDataArray* ghostArray = input->GetCellData()->GetArray(vtkDataSetAttributes::GhostArrayName());
+  if (problem.empty() && nFaces > 0)
   {
-    const auto nt = vtk::DataArrayTupleRange<3>(normals);
-    for (vtkIdType f = 0; f < nFaces; ++f)
-      for (int c = 0; c < 3; ++c)
-        u[3 * f + c] = static_cast<double>(nt[polyOffset + f][c]);
+    mesh.Points.resize(3 * nPoints);
     for (vtkIdType p = 0; p < nPoints; ++p)
-      input->GetPoint(p, &xyz[3 * p]);
-    if (regions)
+      input->GetPoint(p, &mesh.Points[3 * p]);
+    if (pointIds)
+      for (vtkIdType p = 0; p < nPoints; ++p)
+        mesh.PointIds.push_back(static_cast<std::int64_t>(pointIds->GetComponent(p, 0)));
+    const auto nt = vtk::DataArrayTupleRange<3>(normals);
+    vtkIdType npts = 0;
+    const vtkIdType* ids = nullptr;
+    auto it = vtk::TakeSmartPointer(polys->NewIterator());
+    vtkIdType f = 0;
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++f)
     {
-      region.resize(nFaces);
-      for (vtkIdType f = 0; f < nFaces; ++f)
-        region[f] = static_cast<int>(regions->GetComponent(polyOffset + f, 0));
+      const vtkIdType cell = polyOffset + f;
+      if (ghostArray && ghostArray->GetNumberOfTuples() == nCells &&
+        (static_cast<int>(ghostArray->GetComponent(cell, 0)) & vtkDataSetAttributes::DUPLICATECELL))
+        continue;
+      it->GetCurrentCell(npts, ids);
+      for (vtkIdType k = 0; k < npts; ++k)
+        mesh.Connectivity.push_back(ids[k]);
+      mesh.Offsets.push_back(static_cast<std::int64_t>(mesh.Connectivity.size()));
+      double len2 = 0;
+      for (int c = 0; c < 3; ++c)
+      {
+        const double x = static_cast<double>(nt[cell][c]);
+        mesh.Normals.push_back(x);
+        len2 += x * x;
+      }
+      if (!(std::abs(std::sqrt(len2) - 1) < 1e-3) && problem.empty())
+        problem = std::string("The normal field '") + (normals->GetName() ? normals->GetName() : "") +
+          "' is not made of unit vectors (face " + std::to_string(f) + " has length " +
+          std::to_string(std::sqrt(len2)) + ").";
+      if (regions)
+        mesh.Region.push_back(static_cast<int>(regions->GetComponent(cell, 0)));
+      if (cellIds)
+        mesh.FaceIds.push_back(static_cast<std::int64_t>(cellIds->GetComponent(cell, 0)));
+      mesh.Ghost.push_back(0);
+      ownCell.push_back(cell);
     }
+    mesh.OwnFaces = static_cast<std::int64_t>(ownCell.size());
+    mesh.OwnPoints = nPoints;
   }
-  for (vtkIdType f = 0; f < nFaces; ++f)
-  {
-    const double n = std::sqrt(u[3 * f] * u[3 * f] + u[3 * f + 1] * u[3 * f + 1] + u[3 * f + 2] * u[3 * f + 2]);
-    if (!(std::abs(n - 1) < 1e-3))
-    {
-      vtkErrorMacro("The normal field '" << normalsName << "' is not made of unit vectors (face "
-                                         << f << " has length " << n << ").");
-      return 0;
-    }
-  }
+  if (!agree(problem.empty()))
+    return refuse();
 
   // Radius in world units: voxels are the smallest image spacing the
-  // surface came from, or its mean edge length.
-  std::vector<std::int64_t> offsets(nFaces + 1), connectivity(polys->GetNumberOfConnectivityIds());
+  // surface came from (vtkDigitalSurfaceFilter's "ImageSpacing": 3 values,
+  // one component), or the faces' mean edge length over all pieces.
+  double edge[2] = { 0, 0 }; // sum of lengths, number of edges
+  double bounds[6] = { 0, -1, 0, -1, 0, -1 };
+  for (std::int64_t f = 0; f < mesh.OwnFaces; ++f)
   {
-    const auto off = vtk::DataArrayValueRange<1>(polys->GetOffsetsArray());
-    const auto conn = vtk::DataArrayValueRange<1>(polys->GetConnectivityArray());
-    std::copy(off.begin(), off.end(), offsets.begin());
-    std::copy(conn.begin(), conn.end(), connectivity.begin());
+    const std::int64_t m = mesh.Offsets[f + 1] - mesh.Offsets[f];
+    for (std::int64_t i = 0; i < m; ++i)
+    {
+      const double* a = &mesh.Points[3 * mesh.Connectivity[mesh.Offsets[f] + i]];
+      const double* b = &mesh.Points[3 * mesh.Connectivity[mesh.Offsets[f] + (i + 1) % m]];
+      edge[0] += std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+        (a[2] - b[2]) * (a[2] - b[2]));
+      edge[1] += 1;
+    }
   }
+  input->GetBounds(bounds);
+  double extent[6]; // -min and max per axis: the whole surface's box is their maximum
+  for (int a = 0; a < 3; ++a)
+  {
+    const bool empty = !(bounds[2 * a] <= bounds[2 * a + 1]) || mesh.OwnFaces == 0;
+    extent[2 * a] = empty ? -std::numeric_limits<double>::max() : -bounds[2 * a];
+    extent[2 * a + 1] = empty ? -std::numeric_limits<double>::max() : bounds[2 * a + 1];
+  }
+  if (controller)
+  {
+    dg::SumOverPieces(controller, edge, 2);
+    std::vector<double> all(6 * controller->GetNumberOfProcesses());
+    controller->AllGather(extent, all.data(), 6);
+    for (std::size_t i = 0; i < all.size(); ++i)
+      extent[i % 6] = std::max(extent[i % 6], all[i]);
+  }
+  const double meanEdge = edge[1] > 0 ? edge[0] / edge[1] : 1.0;
   double voxel = 0;
-  // vtkDigitalSurfaceFilter's "ImageSpacing": 3 values, one component.
   vtkDataArray* spacing = input->GetFieldData()->GetArray("ImageSpacing");
   if (spacing && spacing->GetNumberOfComponents() == 1 && spacing->GetNumberOfTuples() == 3)
   {
@@ -206,57 +273,72 @@ int vtkCorrectedCurvatureFilter::RequestData(
       voxel = 0;
   }
   if (voxel == 0)
-  {
-    double sum = 0;
-    for (vtkIdType f = 0; f < nFaces; ++f)
-    {
-      const std::int64_t m = offsets[f + 1] - offsets[f];
-      for (std::int64_t i = 0; i < m; ++i)
-      {
-        const double* a = &xyz[3 * connectivity[offsets[f] + i]];
-        const double* b = &xyz[3 * connectivity[offsets[f] + (i + 1) % m]];
-        sum += std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
-          (a[2] - b[2]) * (a[2] - b[2]));
-      }
-    }
-    voxel = connectivity.empty() ? 1.0 : sum / static_cast<double>(connectivity.size());
-  }
+    voxel = meanEdge;
   const double radius = this->RadiusUnits == VOXELS ? this->Radius * voxel : this->Radius;
-  const double diagonal = input->GetLength();
+  double diagonal = 0;
+  for (int a = 0; a < 3; ++a)
+  {
+    const double w = extent[2 * a + 1] + extent[2 * a];
+    diagonal += w > 0 ? w * w : 0;
+  }
+  diagonal = std::sqrt(diagonal);
+  if (edge[1] == 0)
+  {
+    if (rank == 0)
+      vtkErrorMacro("The input has no polygons: the corrected-curvature filter works on a surface.");
+    return 0;
+  }
   if (radius > diagonal)
   {
-    vtkErrorMacro("Invalid parameters: the ball radius (" << radius
-                                                          << " world units) is larger than the "
-                                                             "surface (bounding box diagonal "
-                                                          << diagonal << ").");
+    if (rank == 0)
+      vtkErrorMacro("Invalid parameters: the ball radius ("
+        << radius << " world units) is larger than the surface (bounding box diagonal " << diagonal
+        << ").");
     return 0;
   }
   this->UpdateProgress(0.05);
 
-  dg::CurvatureParameters par;
-  par.Radius = radius;
-  dg::CurvatureResult res;
-  std::string error;
-  if (!dg::ComputeCorrectedCurvatures(nPoints, xyz.data(), offsets, connectivity, u.data(),
-        region.empty() ? nullptr : region.data(), par, res, &error))
+  // Under pieces: the faces of the other pieces that this piece's balls and
+  // their corner normals reach (the ball, its ramp, a face ring).
+  if (controller && !dg::GatherCurvatureHalo(controller, radius + 3 * meanEdge, mesh, problem))
   {
-    vtkErrorMacro(<< error);
+    if (rank == 0)
+      vtkErrorMacro(<< problem);
     return 0;
   }
+
+  dg::CurvatureParameters par;
+  par.Radius = radius;
+  par.EdgeLength = meanEdge;
+  dg::CurvatureResult res;
+  const bool ok = dg::ComputeCorrectedCurvatures(static_cast<std::int64_t>(mesh.Points.size() / 3),
+    mesh.Points.data(), mesh.Offsets, mesh.Connectivity, mesh.Normals.data(),
+    mesh.Region.empty() ? nullptr : mesh.Region.data(), par, res, &problem, mesh.Ghost.data(),
+    mesh.FaceIds.empty() ? nullptr : mesh.FaceIds.data());
+  if (!agree(ok))
+    return refuse();
   if (this->GetAbortExecute())
   {
     return internal.Abort.Abort(outputVector);
   }
   this->UpdateProgress(0.9);
+  // Whole-surface figures: each piece's share, added over the pieces.
+  double totals[7] = { res.Area, std::isfinite(res.Volume) ? res.Volume : 0.0, res.TotalMean,
+    res.TotalGaussian, res.CreaseTotalMean, res.EulerShare,
+    static_cast<double>(res.BoundaryEdges) };
+  if (controller)
+    dg::SumOverPieces(controller, totals, 7);
   this->UsedRadius = radius;
-  this->Area = res.Area;
-  this->Volume = res.Volume;
-  this->IntegralMeanCurvature = res.TotalMean;
-  this->IntegralGaussianCurvature = res.TotalGaussian;
-  this->CreaseIntegralMeanCurvature = res.CreaseTotalMean;
-  this->EulerCharacteristic = res.EulerCharacteristic;
+  this->Area = totals[0];
+  this->Volume = totals[6] > 0 ? std::nan("") : totals[1];
+  this->IntegralMeanCurvature = totals[2];
+  this->IntegralGaussianCurvature = totals[3];
+  this->CreaseIntegralMeanCurvature = totals[4];
+  this->EulerCharacteristic = static_cast<vtkIdType>(std::llround(totals[5]));
   this->NumberOfCreaseEdges = static_cast<vtkIdType>(res.CreaseAngle.size());
 
+  // Port 0: the input's own faces with the arrays (the input's ghost
+  // cells, if any, are kept with zeros: their owners hold the values).
   output->ShallowCopy(input);
   struct Out
   {
@@ -272,9 +354,9 @@ int vtkCorrectedCurvatureFilter::RequestData(
   {
     vtkDoubleArray* a = CellArray(o.Name, o.Components, nCells);
     a->Fill(0.0);
-    for (vtkIdType f = 0; f < nFaces; ++f)
+    for (std::int64_t f = 0; f < mesh.OwnFaces; ++f)
       for (int c = 0; c < o.Components; ++c)
-        a->SetTypedComponent(polyOffset + f, c, (*o.Values)[o.Components * f + c]);
+        a->SetTypedComponent(ownCell[f], c, (*o.Values)[o.Components * f + c]);
     output->GetCellData()->AddArray(a);
     a->Delete();
   }
@@ -282,18 +364,21 @@ int vtkCorrectedCurvatureFilter::RequestData(
 
   vtkNew<vtkFieldData> fd;
   fd->ShallowCopy(input->GetFieldData());
-  AddValue(fd, "CorrectedArea", res.Area);
-  AddValue(fd, "EnclosedVolume", res.Volume);
+  AddValue(fd, "CorrectedArea", this->Area);
+  AddValue(fd, "EnclosedVolume", this->Volume);
   AddValue(fd, "SpecificSurfaceArea",
-    std::isfinite(res.Volume) && res.Volume != 0 ? res.Area / std::abs(res.Volume) : std::nan(""));
-  AddValue(fd, "IntegralMeanCurvature", res.TotalMean);
-  AddValue(fd, "IntegralGaussianCurvature", res.TotalGaussian);
-  AddValue(fd, "GaussBonnetCharacteristic", res.TotalGaussian / (2 * M_PI));
-  AddValue(fd, "EulerCharacteristic", static_cast<double>(res.EulerCharacteristic));
-  AddValue(fd, "CreaseIntegralMeanCurvature", res.CreaseTotalMean);
+    std::isfinite(this->Volume) && this->Volume != 0 ? this->Area / std::abs(this->Volume)
+                                                     : std::nan(""));
+  AddValue(fd, "IntegralMeanCurvature", this->IntegralMeanCurvature);
+  AddValue(fd, "IntegralGaussianCurvature", this->IntegralGaussianCurvature);
+  AddValue(fd, "GaussBonnetCharacteristic", this->IntegralGaussianCurvature / (2 * M_PI));
+  AddValue(fd, "EulerCharacteristic", static_cast<double>(this->EulerCharacteristic));
+  AddValue(fd, "CreaseIntegralMeanCurvature", this->CreaseIntegralMeanCurvature);
   AddValue(fd, "CurvatureRadius", radius);
   output->SetFieldData(fd);
 
+  // Port 1: the crease edges this piece reports, on the input's points
+  // (a reported edge belongs to an own face, so its points are the input's).
   const vtkIdType nLines = static_cast<vtkIdType>(res.CreaseAngle.size());
   vtkNew<vtkIdTypeArray> lineOffsets, lineConn;
   lineOffsets->SetNumberOfValues(nLines + 1);
@@ -312,6 +397,7 @@ int vtkCorrectedCurvatureFilter::RequestData(
   vtkNew<vtkCellArray> ca;
   ca->SetData(lineOffsets, lineConn);
   lines->SetPoints(input->GetPoints());
+  lines->GetPointData()->PassData(input->GetPointData());
   lines->SetLines(ca);
   lines->GetCellData()->AddArray(angle);
   lines->GetCellData()->SetActiveScalars("CreaseAngle");

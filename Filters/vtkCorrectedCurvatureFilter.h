@@ -45,9 +45,14 @@
  *
  * Bad input (no polygons, no or non-unit normals, a region array of the
  * wrong size, Radius <= 0 or larger than the surface) gives an error and
- * empty outputs. The filter runs in one process: asked for one of several
- * pieces under a multi-process controller it reports an error (from
- * process 0) and gives empty outputs.
+ * empty outputs.
+ *
+ * Pieces: under a multi-process controller, each process computes its own
+ * faces (the input's non-ghost cells, matched across pieces by their cell
+ * and point "GlobalIds") after receiving the other pieces' faces its balls
+ * reach; the arrays, the creases (each reported once, by the process
+ * owning the face of smaller global id) and the whole-surface figures are
+ * those of one process, to rounding.
  */
 #ifndef vtkCorrectedCurvatureFilter_h
 #define vtkCorrectedCurvatureFilter_h

@@ -132,7 +132,7 @@ int main(int argc, char** argv)
     { "filters", "SharpFeatures", { "Input", "Band and Regions", "Feature Lines" },
       { "Band Sides", "Output Field" }, "Minimum Feature Angle", "Quadric Merge Factor",
       "feature line" },
-    { "filters", "CorrectedCurvature", {}, {}, "Per Side", "Regions", "each side of a crease" },
+    { "filters", "CorrectedCurvature", {}, {}, "Radius Units", "Regions", "each side of a crease" },
     { "filters", "DigitalSurface", {}, {}, "Selection Mode", "", "" },
     { "filters", "IINormalEstimator", {}, {}, "Radius", "", "" },
     { "filters", "VCMNormalEstimator", {}, {}, "", "", "" },
