@@ -280,6 +280,11 @@ class Result:
         self.at = array(s.GetCellData(), "ATNormals")
         self.v = array(s.GetPointData(), "ATFeatureIndicator")
         self.ghosts = array(s.GetCellData(), "vtkGhostType")
+        self.curvature = {n: array(s.GetCellData(), n) for n in (
+            "CorrectedMeanCurvature", "CorrectedGaussianCurvature", "CorrectedK1", "CorrectedK2")}
+        fd = s.GetFieldData()
+        self.totals = {n: (fd.GetArray(n).GetValue(0) if fd.GetArray(n) else None) for n in (
+            "CorrectedArea", "IntegralMeanCurvature", "GaussBonnetCharacteristic", "EulerCharacteristic")}
 
     def edges(self):
         """Feature edges as sorted pairs of global point ids (a list, with repeats)."""
@@ -374,6 +379,15 @@ def compare(ref, res, check, label, angle_limit, v_limit, assert_edges=True):
         check(split == 0, "%s: border points' copies carry the same v (%d points differ)" % (label, split))
     else:
         check(False, "%s: point GlobalIds and ATFeatureIndicator present" % label)
+    if ref.curvature["CorrectedMeanCurvature"] is not None and len(common):
+        # The pvbatch pipeline's curvature reads the II normals, identical
+        # in every run: the pieces' balls must see the faces one process sees.
+        worst = max(np.max(np.abs(ref.curvature[n][ir] - res.curvature[n][it])) if res.curvature[n] is not None
+                    else np.inf for n in ref.curvature)
+        check(worst <= 1e-9, "%s: corrected curvatures equal one process's (max difference %.3g)" % (label, worst))
+        same = all(res.totals[n] is not None and abs(res.totals[n] - ref.totals[n]) <= 1e-9 * max(1.0, abs(ref.totals[n]))
+                   for n in ref.totals)
+        check(same, "%s: whole-surface figures equal one process's (%s against %s)" % (label, res.totals, ref.totals))
     re_, te = ref.edges(), res.edges()
     dup = len(te) - len(set(te))
     rs, ts = set(re_), set(te)
@@ -388,6 +402,25 @@ def compare(ref, res, check, label, angle_limit, v_limit, assert_edges=True):
         near = [max(refv.get(a, -1), refv.get(b, -1)) for a, b in list((rs - ts) | (ts - rs))[:5]]
         print("info %s: v at the ends of some differing edges (threshold 0.5): %s"
               % (label, ", ".join("%.6f" % x for x in near)))
+
+
+def compare_creases(ref_surface, ref_creases, res_surface, res_creases, check, label):
+    """The Corrected Curvature filter's creases (pvbatch pipeline): the same
+    edges by global point ids, each once, with the same angles."""
+    def by_edge(surface, creases):
+        r = Result(surface, creases, reference=True)
+        angles = array(r.features.GetCellData(), "CreaseAngle")
+        edges = r.edges()
+        return edges, dict(zip(edges, [] if angles is None else angles.tolist()))
+    re_, ra = by_edge(ref_surface, ref_creases)
+    te, ta = by_edge(res_surface, res_creases)
+    dup = len(te) - len(set(te))
+    check(len(re_) > 0 and set(re_) == set(te) and dup == 0,
+          "%s: the same crease edges (%d; %d only in one process, %d only here, %d listed twice)"
+          % (label, len(set(re_)), len(set(re_) - set(te)), len(set(te) - set(re_)), dup))
+    common = set(ra) & set(ta)
+    worst = max((abs(ra[e] - ta[e]) for e in common), default=0.0)
+    check(worst <= 1e-9, "%s: crease angles equal one process's (max difference %.3g degrees)" % (label, worst))
 
 
 def files_of(folder):

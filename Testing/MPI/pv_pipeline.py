@@ -1,9 +1,13 @@
 """The MPI tests' pvbatch pipeline (run as mpirun -np N pvbatch --symmetric
 pv_pipeline.py PLUGIN INPUT.vti OUTPREFIX SOLVER_TOLERANCE): the plugin's
-filters Digital Surface -> II Normal Estimator -> Ambrosio-Tortorelli on
-every rank's piece, written with ParaView's parallel writer as
-OUTPREFIX_surface.pvtp and OUTPREFIX_features.pvtp (pieces in folders of
-those names).
+filters Digital Surface -> II Normal Estimator -> Ambrosio-Tortorelli ->
+Corrected Curvature (of the II normals, which every process count gives
+bit for bit, so that the curvature's own distribution is what is compared;
+per side of the faces' axis directions, SurfelDirection, so that every edge
+where the staircase turns is a crease and the creases cross the pieces'
+borders everywhere) on every rank's piece, written with ParaView's parallel
+writer as OUTPREFIX_surface.pvtp, OUTPREFIX_features.pvtp and
+OUTPREFIX_creases.pvtp (pieces in folders of those names).
 
 DG_MPI_BAD_RANK=r gives rank r a bad II radius (-1): that rank reports the
 filter's error in one line and exits 1 at once, so that mpirun ends the
@@ -29,6 +33,9 @@ ii = IINormalEstimator(Input=surface, Source=volume, Radius=4)
 if os.environ.get("DG_MPI_BAD_RANK", "") == str(rank):
     ii.Radius = -1
 at = AmbrosioTortorelli(Input=ii, Alpha=0.05, Lambda=0.005, SolverTolerance=float(tolerance))
+curvature = CorrectedCurvature(Input=at, Radius=5)
+curvature.Normals = ["CELLS", "IINormals"]
+curvature.Regions = ["CELLS", "SurfelDirection"]
 
 
 @calldata_type(VTK_STRING)  # the observer receives the message
@@ -40,9 +47,10 @@ def fail(obj, event, message=None):
     os._exit(1)
 
 
-for proxy in (volume, surface, ii, at):
+for proxy in (volume, surface, ii, at, curvature):
     proxy.GetClientSideObject().AddObserver(vtkCommand.ErrorEvent, fail)
 
-at.UpdatePipeline()
-SaveData(prefix + "_surface.pvtp", proxy=OutputPort(at, 0), CompressorType="LZ4", DataMode="Binary")
+curvature.UpdatePipeline()
+SaveData(prefix + "_surface.pvtp", proxy=OutputPort(curvature, 0), CompressorType="LZ4", DataMode="Binary")
 SaveData(prefix + "_features.pvtp", proxy=OutputPort(at, 1), CompressorType="LZ4", DataMode="Binary")
+SaveData(prefix + "_creases.pvtp", proxy=OutputPort(curvature, 1), CompressorType="LZ4", DataMode="Binary")

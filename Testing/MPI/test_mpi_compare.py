@@ -99,6 +99,9 @@ if res.cell_ids is not None and res.surface.GetNumberOfCells():
     check(res.surface.GetCellData().GetGlobalIds() is not None and res.surface.GetPointData().GetGlobalIds() is not None,
           "%d-rank GlobalIds are the attributes' global ids" % N)
 mc.compare(ref, res, check, "np%d vs 1, SolverTolerance 1e-8" % N, 0.01, 1e-5)
+if TOOL == "pvbatch":
+    mc.compare_creases(ref_s, os.path.join(ref_dir, "r_creases.pvtp"), run_s,
+                       os.path.join(run_dir, "r_creases.pvtp"), check, "np%d vs 1" % N)
 
 again_dir, _, _ = runner(N, TIGHT, "np%d-tight-again" % N)
 a, b = mc.files_of(run_dir), mc.files_of(again_dir)
