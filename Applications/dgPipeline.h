@@ -76,7 +76,7 @@ struct PipelineSettings
   // sharp stage's creases (vtkCorrectedCurvatureFilter), ball radius in
   // voxels.
   bool Curvature = false;
-  double CurvatureRadius = 7;
+  double CurvatureRadius = 6;
 };
 
 /// The settings' AT parameters on an AT filter (every AT the program runs).

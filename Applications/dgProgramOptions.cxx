@@ -111,7 +111,7 @@ Curvature (corrected curvature measures of the final normals, docs/curvature-mea
                          angles, whole-surface figures (area, specific surface
                          area, integral of H, Euler characteristic); writes
                          PREFIX_creases.vtp and the picture PREFIX_curvature.png
-  --curvature-radius R   their ball radius in voxels (default 5; implies
+  --curvature-radius R   their ball radius in voxels (default 6; implies
                          --curvature)
 Outputs (in --output-dir, named PREFIX_*; PREFIX defaults to the input's name)
   --output-dir DIR       default: current directory (created if missing)

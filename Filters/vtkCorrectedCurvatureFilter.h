@@ -77,10 +77,10 @@ public:
 
   ///@{
   /**
-   * Ball radius (> 0, default 5), in RadiusUnits. Larger balls average
-   * more noise away and resolve less detail; 5 voxels keeps the mean
-   * curvature of spheres of radius 10 to 50 voxels within 1 % clean and
-   * within 5 % at noise k = 0.3 (docs/curvature-measures.md).
+   * Ball radius (> 0, default 6), in RadiusUnits. Larger balls average
+   * more noise away and blur more where the curvature varies: 6 voxels
+   * gives the smallest worst error over spheres, a torus, an ellipsoid and
+   * DGtal's goursat surface, clean and noisy (docs/curvature-measures.md).
    */
   vtkSetMacro(Radius, double);
   vtkGetMacro(Radius, double);
@@ -132,7 +132,7 @@ protected:
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  double Radius = 7.0;
+  double Radius = 6.0;
   int RadiusUnits = VOXELS;
   bool PerSide = true;
 

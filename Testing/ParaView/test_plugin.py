@@ -313,7 +313,7 @@ check(sharp_lines.GetCellData().GetArray("FeatureAngle") is not None, "FeatureAn
 # Corrected curvature after Sharp Features, its defaults, against the class.
 check("CorrectedCurvature" in globals(), "Corrected Curvature available")
 curv = CorrectedCurvature(Input=sharp)
-check(curv.Radius == 7 and curv.PerSide == 1, "Corrected Curvature defaults: ball 7 voxels, per side")
+check(curv.Radius == 6 and curv.PerSide == 1, "Corrected Curvature defaults: ball 6 voxels, per side")
 curv.UpdatePipeline()
 curv_surface = servermanager.Fetch(curv, idx=0)
 curv_creases = servermanager.Fetch(curv, idx=1)

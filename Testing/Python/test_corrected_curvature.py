@@ -52,9 +52,9 @@ curv = vtkCorrectedCurvatureFilter()
 curv.SetInputConnection(sharp.GetOutputPort())
 curv.Update()
 out = curv.GetOutput(0)
-check(curv.GetRadius() == 7 and curv.GetRadiusUnits() == curv.VOXELS and curv.GetPerSide(),
-      "defaults: ball 7 voxels, per side")
-check(abs(curv.GetUsedRadius() - 7 * h) < 1e-12, "the ball is 7 voxels of 0.5: %g" % curv.GetUsedRadius())
+check(curv.GetRadius() == 6 and curv.GetRadiusUnits() == curv.VOXELS and curv.GetPerSide(),
+      "defaults: ball 6 voxels, per side")
+check(abs(curv.GetUsedRadius() - 6 * h) < 1e-12, "the ball is 6 voxels of 0.5: %g" % curv.GetUsedRadius())
 H = out.GetCellData().GetArray("CorrectedMeanCurvature")
 check(H is not None and H.GetNumberOfTuples() == out.GetNumberOfCells(), "CorrectedMeanCurvature per face")
 R = r * h
