@@ -99,6 +99,10 @@ def main():
         centres = vtk_to_numpy(cc.GetOutput().GetPoints().GetData()).astype(float)
         truth, residual = true_mean_curvature(centres)
         row = ["%.3f" % h, "%d" % surface.GetNumberOfCells(), "%.1f s" % dt]
+        ii = surface.GetCellData().GetArray("IIMeanCurvature")  # with -- --curvatures
+        if ii is not None:
+            e = np.abs(vtk_to_numpy(ii) - truth)
+            row.append("II: %.4f %.4f" % (e.max(), np.sqrt((e ** 2).mean())))
         for b in balls:
             f = vtkCorrectedCurvatureFilter()
             f.SetInputData(surface)
