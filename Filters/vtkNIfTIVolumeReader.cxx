@@ -109,7 +109,8 @@ std::int64_t Field(const unsigned char* h, int at, int bytes, bool swap)
 //   or one whose product with the type's values per voxel overflows its int
 //   component count (its row copy then loops without end);
 // - a dim[0] outside 1..7 as it decodes it (NIfTI's own range; VTK lets 0
-//   through).
+//   through);
+// - a vox_offset below 0, not finite or beyond 64 bits.
 // The header is decoded exactly as VTK decodes it, or the check would look
 // at other bytes than VTK does: NIfTI-2 when the magic at 4 says version 2
 // to 9 (then the datatype is at 12 and dim[] holds 8-byte integers), else
@@ -173,6 +174,26 @@ std::string HeaderProblem(const std::string& fileName)
       default:
         return "unknown NIfTI datatype " + std::to_string(datatype) + " (a corrupt header?)";
     }
+  }
+  // VTK's reader allocates the volume before it seeks to vox_offset, and
+  // the length check (CheckDataSize) counts on an offset >= 0: a negative
+  // one (or NIfTI-1's float beyond int64, which VTK's conversion turns
+  // negative) would pass any size.
+  double offset = 0;
+  if (nifti2)
+    offset = static_cast<double>(Field(h, 168, 8, swap));
+  else
+  {
+    const auto bits = static_cast<std::uint32_t>(Field(h, 108, 4, swap) & 0xffffffff);
+    float value;
+    std::memcpy(&value, &bits, sizeof value);
+    offset = value;
+  }
+  if (!(offset >= 0 && offset < 9.2e18))
+  {
+    std::ostringstream e;
+    e << "vox_offset is " << offset << ", not a byte offset into the file (a corrupt header?)";
+    return e.str();
   }
   if (ndim >= 5)
   {
