@@ -104,10 +104,10 @@ std::int64_t Field(const unsigned char* h, int at, int bytes, bool swap)
 //   bound (only datatype 0 meets its end marker), so it reads past its
 //   table until some word happens to equal the datatype, and crashes in
 //   RequestInformation when none does first (SIGSEGV/SIGBUS seen for 1536,
-//   2048, 2305, 2560, 4866, -5; NIfTI's own 1, 1536 and 2048 included);
+//   2048, 2305, 2560, 4866, -5): NIfTI's 1, 1536 and 2048 are among them;
 // - with dim[0] >= 5, a dim[5] of 0 (its RequestData divides by it: SIGFPE)
 //   or one whose product with the type's values per voxel overflows its int
-//   component count (its row copy then loops without end);
+//   component count (its row copy then writes past the volume: SIGSEGV);
 // - a dim[0] outside 1..7 as it decodes it (NIfTI's own range; VTK lets 0
 //   through);
 // - a vox_offset below 0, not finite or beyond 64 bits.
