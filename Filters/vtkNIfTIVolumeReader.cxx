@@ -22,10 +22,13 @@
 #include <vtksys/SystemTools.hxx>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <sstream>
 
 vtkStandardNewMacro(vtkNIfTIVolumeReader);
@@ -60,57 +63,152 @@ struct Quiet : public vtkCommand
   std::string Message;
 };
 
-// Empty, or the problem when the header of fileName (or of its .hdr for a
-// .img) holds a datatype NIfTI does not define or a dim[0] outside 1..7 in
-// both byte orders: VTK 9.2's vtkNIFTIImageReader crashes on such headers
-// in RequestInformation (SIGSEGV seen for datatypes 2305, 2560, 4866, -5,
-// and for dim[0] = 0: out-of-bounds reads), so they are refused before it
-// gets there.
+// The file vtkNIFTIImageReader takes the header from, found as it finds it:
+// a .img's .hdr, and when the name does not exist, the same name with
+// ".gz" added or removed. Empty when there is none (VTK's reader says so).
+std::string HeaderFile(const std::string& fileName)
+{
+  const auto ends = [](const std::string& s, std::size_t end, const char* ext) {
+    return end >= 4 && s[end - 4] == '.' &&
+      vtksys::SystemTools::LowerCase(s.substr(end - 3, 3)) == ext + 1;
+  };
+  std::string name = fileName;
+  const std::size_t n = name.size();
+  const bool gz = n >= 3 && name[n - 3] == '.' &&
+    vtksys::SystemTools::LowerCase(name.substr(n - 2)) == "gz";
+  const std::size_t m = gz ? n - 3 : n;
+  const bool upper = m >= 3 && std::isupper(static_cast<unsigned char>(name[m - 3]));
+  if (ends(name, m, ".img"))
+    name.replace(m - 3, 3, upper ? "HDR" : "hdr");
+  if (vtksys::SystemTools::FileExists(name))
+    return name;
+  name = gz ? name.substr(0, m) : name + (upper ? ".GZ" : ".gz");
+  return vtksys::SystemTools::FileExists(name) ? name : std::string();
+}
+
+// A signed integer field of a header as VTK's reader decodes it: `bytes`
+// bytes at `at`, little-endian unless swapped.
+std::int64_t Field(const unsigned char* h, int at, int bytes, bool swap)
+{
+  std::uint64_t v = 0;
+  for (int i = 0; i < bytes; ++i)
+    v |= static_cast<std::uint64_t>(h[swap ? at + bytes - 1 - i : at + i]) << (8 * i);
+  if (bytes < 8 && (v >> (8 * bytes - 1)) != 0)
+    return static_cast<std::int64_t>(v) - (std::int64_t(1) << (8 * bytes));
+  return static_cast<std::int64_t>(v);
+}
+
+// Empty, or the problem when the header holds what VTK 9.2's
+// vtkNIFTIImageReader cannot survive:
+// - a datatype outside the 14 it maps to a VTK type: its lookup loop has no
+//   bound (only datatype 0 meets its end marker), so it reads past its
+//   table until some word happens to equal the datatype, and crashes in
+//   RequestInformation when none does first (SIGSEGV/SIGBUS seen for 1536,
+//   2048, 2305, 2560, 4866, -5): NIfTI's 1, 1536 and 2048 are among them;
+// - with dim[0] >= 5, a dim[5] of 0 (its RequestData divides by it: SIGFPE)
+//   or one whose product with the type's values per voxel overflows its int
+//   component count (its row copy then writes past the volume: SIGSEGV);
+// - a dim[0] outside 1..7 as it decodes it (NIfTI's own range; VTK lets 0
+//   through);
+// - a vox_offset below 0, not finite or beyond 64 bits.
+// The header is decoded exactly as VTK decodes it, or the check would look
+// at other bytes than VTK does: NIfTI-2 when the magic at 4 says version 2
+// to 9 (then the datatype is at 12 and dim[] holds 8-byte integers), else
+// NIfTI-1 by the magic at 344 or Analyze 7.5 by sizeof_hdr; byte-swapped
+// when dim[0], read little-endian, is below 0 or above 7 (all 8 bytes of
+// NIfTI-2's; a NIfTI-1 dim[0] of 0 is not swapped).
 std::string HeaderProblem(const std::string& fileName)
 {
-  std::string header = fileName;
-  const std::string lower = vtksys::SystemTools::LowerCase(fileName);
-  for (const char* img : { ".img", ".img.gz" })
-  {
-    const std::size_t n = std::strlen(img);
-    if (lower.size() > n && lower.compare(lower.size() - n, n, img) == 0)
-    {
-      const bool upper = header.compare(header.size() - n, 4, ".IMG") == 0;
-      header.replace(header.size() - n, 4, upper ? ".HDR" : ".hdr");
-    }
-  }
-  gzFile f = gzopen(header.c_str(), "rb");
+  const std::string header = HeaderFile(fileName);
+  gzFile f = header.empty() ? nullptr : gzopen(header.c_str(), "rb");
   if (!f)
     return ""; // VTK's reader says why
   unsigned char h[348];
   const int got = gzread(f, h, sizeof h);
   gzclose(f);
-  // The version as vtkNIFTIImageReader finds it: NIfTI-2's magic at 4,
-  // NIfTI-1's at 344, else an Analyze header (sizeof_hdr 348, any order);
-  // the byte order from dim[0] (1..7).
-  auto magic = [&](int at, char v) {
-    return got >= at + 4 && h[at] == 'n' && (h[at + 1] == '+' || h[at + 1] == 'i') &&
-      h[at + 2] == v && h[at + 3] == 0;
+  if (got != static_cast<int>(sizeof h))
+    return ""; // shorter than any header: VTK's reader refuses it
+  const auto magic = [&](int at, bool version2) {
+    return h[at] == 'n' && (h[at + 1] == '+' || h[at + 1] == 'i') &&
+      (version2 ? h[at + 2] >= '2' && h[at + 2] <= '9' : h[at + 2] == '1') && h[at + 3] == 0;
   };
-  int at = -1, dim0 = -1;
-  if (magic(4, '2'))
-    at = 12, dim0 = 16;
-  else if (got == 348 && (magic(344, '1') || (h[0] == 92 && h[1] == 1 && !h[2] && !h[3]) ||
-                          (!h[0] && !h[1] && h[2] == 1 && h[3] == 92)))
-    at = 70, dim0 = 40;
-  if (at < 0)
+  const bool nifti2 = magic(4, true);
+  if (nifti2 && std::memcmp(h + 8, "\r\n\032\n", 4) != 0)
+    return ""; // a NIfTI-2 signature broken by newline conversion: VTK's reader refuses it
+  if (!nifti2 && !magic(344, false) && !(h[0] == 92 && h[1] == 1 && !h[2] && !h[3]) &&
+    !(!h[0] && !h[1] && h[2] == 1 && h[3] == 92))
     return ""; // not a header: VTK's reader says so
-  const int little = h[dim0] | h[dim0 + 1] << 8;
-  const int big = h[dim0] << 8 | h[dim0 + 1];
-  // (NIfTI-1 and Analyze: a 2-byte dim[0]; NIfTI-2's is 8 bytes, left to VTK.)
-  if (dim0 == 40 && !(little >= 1 && little <= 7) && !(big >= 1 && big <= 7))
-    return "dim[0] is " + std::to_string(little) + ", not a number of dimensions (1 to 7): a corrupt header?";
-  const bool swap = !(little >= 1 && little <= 7);
-  const short datatype = static_cast<short>(swap ? (h[at] << 8 | h[at + 1]) : (h[at] | h[at + 1] << 8));
-  for (int known : { 0, 1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 768, 1024, 1280, 1536, 1792, 2048, 2304 })
-    if (datatype == known)
-      return "";
-  return "unknown NIfTI datatype " + std::to_string(datatype) + " (a corrupt header?)";
+  const int dimAt = nifti2 ? 16 : 40, dimBytes = nifti2 ? 8 : 2;
+  const std::int64_t rawDim0 = Field(h, dimAt, dimBytes, false);
+  const bool swap = rawDim0 < 0 || rawDim0 > 7;
+  // VTK keeps the low 32 bits of NIfTI-2's dim[0] (an int).
+  const auto ndim = static_cast<std::int32_t>(
+    static_cast<std::uint32_t>(Field(h, dimAt, dimBytes, swap) & 0xffffffff));
+  if (ndim < 1 || ndim > 7)
+    return "dim[0] is " + std::to_string(ndim) +
+      ", not a number of dimensions (1 to 7): a corrupt header?";
+
+  const auto datatype = static_cast<int>(Field(h, nifti2 ? 12 : 70, 2, swap));
+  struct Type
+  {
+    int Code, Values;
+  };
+  // NIfTI's datatypes with a VTK scalar type, and the values per voxel.
+  static const Type types[] = { { 2, 1 }, { 4, 1 }, { 8, 1 }, { 16, 1 }, { 32, 2 }, { 64, 1 },
+    { 128, 3 }, { 256, 1 }, { 512, 1 }, { 768, 1 }, { 1024, 1 }, { 1280, 1 }, { 1792, 2 },
+    { 2304, 4 } };
+  const Type* type = std::find_if(
+    std::begin(types), std::end(types), [&](const Type& t) { return t.Code == datatype; });
+  if (type == std::end(types))
+  {
+    switch (datatype)
+    {
+      case 0:
+        return "NIfTI datatype 0 (DT_UNKNOWN): the header gives no voxel type";
+      case 1:
+        return "NIfTI datatype 1 (1-bit binary) is not supported";
+      case 1536:
+        return "NIfTI datatype 1536 (128-bit float) is not supported";
+      case 2048:
+        return "NIfTI datatype 2048 (256-bit complex) is not supported";
+      default:
+        return "unknown NIfTI datatype " + std::to_string(datatype) + " (a corrupt header?)";
+    }
+  }
+  // VTK's reader allocates the volume before it seeks to vox_offset, and
+  // the length check (CheckDataSize) counts on an offset >= 0: a negative
+  // one (or NIfTI-1's float beyond int64, which VTK's conversion turns
+  // negative) would pass any size.
+  double offset = 0;
+  if (nifti2)
+    offset = static_cast<double>(Field(h, 168, 8, swap));
+  else
+  {
+    const auto bits = static_cast<std::uint32_t>(Field(h, 108, 4, swap) & 0xffffffff);
+    float value;
+    std::memcpy(&value, &bits, sizeof value);
+    offset = value;
+  }
+  if (!(offset >= 0 && offset < 9.2e18))
+  {
+    std::ostringstream e;
+    e << "vox_offset is " << offset << ", not a byte offset into the file (a corrupt header?)";
+    return e.str();
+  }
+  if (ndim >= 5)
+  {
+    const std::int64_t vectors = Field(h, dimAt + 5 * dimBytes, dimBytes, swap);
+    if (vectors == 0)
+      return "dim[5] is 0 in a " + std::to_string(ndim) +
+        "-D header (no vector components): a corrupt header?";
+    // (A negative dim[5] or one beyond int32 VTK's reader refuses itself.)
+    if (vectors > 0 && vectors <= 0x7fffffff &&
+      vectors * type->Values > std::numeric_limits<int>::max())
+      return "dim[5] is " + std::to_string(vectors) + ": " +
+        std::to_string(vectors * type->Values) +
+        " values per voxel, more than VTK's reader can count (a corrupt header?)";
+  }
+  return "";
 }
 
 // A header without voxels, or an uncompressed single file (.nii) shorter
