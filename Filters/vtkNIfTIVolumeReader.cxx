@@ -211,11 +211,15 @@ std::string HeaderProblem(const std::string& fileName)
   return "";
 }
 
-// A header without voxels, or an uncompressed single file (.nii) shorter
-// than its header's first volume: empty when it is long enough (or
-// compressed, or a .hdr/.img pair), else the problem. vtkNIFTIImageReader
-// allocates the volume the header declares before reading it, so a few
-// bytes claiming 2^40 voxels would otherwise allocate that much.
+// A header without voxels, a single file (.nii) shorter than its header's
+// first volume, or a compressed one (.nii.gz) too small to inflate to it:
+// empty when the file can hold the volume (or it is a .hdr/.img pair), else
+// the problem. vtkNIFTIImageReader allocates the volume the header declares
+// before reading it, so a few bytes claiming 2^40 voxels would otherwise
+// allocate that much. Deflate cannot expand data more than 1032 times (its
+// longest match, 258 bytes, costs at least 2 bits), in one gzip member or
+// several, so a compressed file is refused only when no valid stream of its
+// length could hold the volume.
 std::string CheckDataSize(const char* fileName, vtkNIFTIImageReader* r)
 {
   vtkNIFTIImageHeader* h = r->GetNIFTIHeader();
@@ -226,14 +230,19 @@ std::string CheckDataSize(const char* fileName, vtkNIFTIImageReader* r)
   // can spin for minutes on it.
   if (ext[1] < ext[0] || ext[3] < ext[2] || ext[5] < ext[4])
     return std::string(fileName) + ": a dimension of 0 in the header (no voxels)";
-  const std::string name = fileName;
-  if (!h || name.size() < 4 || vtksys::SystemTools::LowerCase(name.substr(name.size() - 4)) != ".nii")
-    return ""; // .hdr/.img, .nii.gz: the voxels are elsewhere or compressed
+  const std::string lower = vtksys::SystemTools::LowerCase(fileName);
+  const auto endsWith = [&](const char* ext) {
+    const std::size_t n = std::strlen(ext);
+    return lower.size() >= n && lower.compare(lower.size() - n, n, ext) == 0;
+  };
+  if (!h || !(endsWith(".nii") || endsWith(".nii.gz")))
+    return ""; // .hdr/.img: the voxels are elsewhere
   const std::string magic = h->GetMagic() ? h->GetMagic() : "";
   std::ifstream in(fileName, std::ios::binary);
   char head[2] = { 0, 0 };
-  if (!in.read(head, 2) || (head[0] == '\x1f' && head[1] == '\x8b'))
-    return ""; // gzip: its length says nothing
+  if (!in.read(head, 2))
+    return "";
+  const bool gzip = head[0] == '\x1f' && head[1] == '\x8b';
   in.seekg(0, std::ios::end);
   const double length = static_cast<double>(in.tellg());
   double needed = 1;
@@ -257,7 +266,14 @@ std::string CheckDataSize(const char* fileName, vtkNIFTIImageReader* r)
   }
   if (magic == "n+1" || magic == "n+2")
     needed += static_cast<double>(h->GetVoxOffset());
-  if (length < needed)
+  if (gzip && needed > 1032.0 * length + 1024.0)
+  {
+    std::ostringstream e;
+    e << fileName << ": the compressed file (" << length << " bytes) cannot hold the " << needed
+      << " bytes its header declares (a corrupt header?)";
+    return e.str();
+  }
+  if (!gzip && length < needed)
   {
     std::ostringstream e;
     e << fileName << ": the file is shorter than its header says (" << length << " of " << needed
