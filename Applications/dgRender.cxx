@@ -234,6 +234,25 @@ void FrameCamera(vtkCamera* camera, const Frame& frame, const double direction[3
   camera->SetViewUp(up);
   camera->SetParallelScale(perPixel * panelH / 2);
 }
+
+bool SavePicture(vtkRenderWindow* window, const std::string& pngPath, std::string& error)
+{
+  vtkNew<vtkWindowToImageFilter> grab;
+  grab->SetInput(window);
+  grab->ReadFrontBufferOff();
+  grab->ShouldRerenderOff();
+  grab->Update();
+  vtkNew<vtkPNGWriter> writer;
+  writer->SetInputConnection(grab->GetOutputPort());
+  writer->SetFileName(pngPath.c_str());
+  writer->Write();
+  if (writer->GetErrorCode() != 0)
+  {
+    error = "cannot write " + pngPath;
+    return false;
+  }
+  return true;
+}
 } // namespace render
 using namespace render;
 
@@ -348,21 +367,6 @@ bool RenderPicture(vtkPolyData* surface, const char* inputNormals, vtkPolyData* 
     r->ResetCameraClippingRange();
   }
   window->Render();
-
-  vtkNew<vtkWindowToImageFilter> grab;
-  grab->SetInput(window);
-  grab->ReadFrontBufferOff();
-  grab->ShouldRerenderOff();
-  grab->Update();
-  vtkNew<vtkPNGWriter> writer;
-  writer->SetInputConnection(grab->GetOutputPort());
-  writer->SetFileName(pngPath.c_str());
-  writer->Write();
-  if (writer->GetErrorCode() != 0)
-  {
-    error = "cannot write " + pngPath;
-    return false;
-  }
-  return true;
+  return render::SavePicture(window, pngPath, error);
 }
 } // namespace dg

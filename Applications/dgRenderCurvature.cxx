@@ -8,13 +8,12 @@
 #include <vtkLight.h>
 #include <vtkLookupTable.h>
 #include <vtkNew.h>
-#include <vtkPNGWriter.h>
+#include <vtkMath.h>
 #include <vtkPolyDataMapper.h>
 #include <vtkProperty.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
 #include <vtkTextProperty.h>
-#include <vtkWindowToImageFilter.h>
 #ifdef DG_HAVE_CHARTS
 #include <vtkAxis.h>
 #include <vtkChartHistogram2D.h>
@@ -128,8 +127,7 @@ bool RenderCurvaturePicture(vtkPolyData* surface, vtkPolyData* creases, int widt
   const Frame frame = Framing(surface, direction, up);
   // Room on the right of the panel for the colour bar.
   const double barW = 0.16 * panelW;
-  Frame shifted = frame;
-  FrameCamera(left->GetActiveCamera(), shifted, direction, up, std::max(surface->GetLength(), 1e-9),
+  FrameCamera(left->GetActiveCamera(), frame, direction, up, std::max(surface->GetLength(), 1e-9),
     panelW - barW, panelH, band, margin);
   {
     // The camera framed a narrower panel: widen its view to the real one
@@ -137,9 +135,7 @@ bool RenderCurvaturePicture(vtkPolyData* surface, vtkPolyData* creases, int widt
     vtkCamera* c = left->GetActiveCamera();
     const double perPixel = 2 * c->GetParallelScale() / panelH;
     double right[3], f[3], p[3];
-    right[0] = direction[1] * up[2] - direction[2] * up[1];
-    right[1] = direction[2] * up[0] - direction[0] * up[2];
-    right[2] = direction[0] * up[1] - direction[1] * up[0];
+    vtkMath::Cross(direction, up, right);
     c->GetFocalPoint(f);
     c->GetPosition(p);
     for (int k = 0; k < 3; ++k)
@@ -254,20 +250,6 @@ bool RenderCurvaturePicture(vtkPolyData* surface, vtkPolyData* creases, int widt
 #endif
 
   window->Render();
-  vtkNew<vtkWindowToImageFilter> grab;
-  grab->SetInput(window);
-  grab->ReadFrontBufferOff();
-  grab->ShouldRerenderOff();
-  grab->Update();
-  vtkNew<vtkPNGWriter> writer;
-  writer->SetInputConnection(grab->GetOutputPort());
-  writer->SetFileName(pngPath.c_str());
-  writer->Write();
-  if (writer->GetErrorCode() != 0)
-  {
-    error = "cannot write " + pngPath;
-    return false;
-  }
-  return true;
+  return render::SavePicture(window, pngPath, error);
 }
 } // namespace dg

@@ -8,6 +8,7 @@
 #include <vtkActor.h>
 #include <vtkCamera.h>
 #include <vtkPolyData.h>
+#include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
 #include <vtkSmartPointer.h>
 
@@ -39,6 +40,9 @@ Frame Framing(vtkPolyData* surface, const double direction[3], const double up[3
 /// pixels, below a text band of `band` pixels, with `margin` pixels around.
 void FrameCamera(vtkCamera* camera, const Frame& frame, const double direction[3],
   const double up[3], double diagonal, double panelW, double panelH, double band, double margin);
+/// Writes the rendered window (its back buffer) as a PNG;
+/// false with error set when the file cannot be written.
+bool SavePicture(vtkRenderWindow* window, const std::string& pngPath, std::string& error);
 } // namespace render
 } // namespace dg
 
