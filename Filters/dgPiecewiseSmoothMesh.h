@@ -1,0 +1,145 @@
+// A piecewise-smooth mesh from a digital surface and a normal field
+// (issue 36, docs/mesh.md): the surface's vertices move so that every face
+// is orthogonal to its normal, the crease lines between feature regions
+// straighten along their direction, and each vertex stays within its
+// voxel corner's cell.
+//
+// Plain C++ core on the surface's own arrays, in grid units (a voxel side
+// is 1 along each axis: FindSurfaceFrame gives the map from world
+// coordinates). With d the displacement of the vertices from the digital
+// surface's corners p0 and E_ab = p0_b - p0_a + d_b - d_a a side's vector,
+// the energy is
+//
+//   E(d) = sum over faces f, sides (a, b) of f:  (n_f . E_ab)^2
+//        + beta sum over crease edges (a, b):   |E_ab - (k . E_ab) k|^2
+//        + sum over vertices v:  alpha_n (m_v . d_v)^2 + alpha_t |d_v - (m_v . d_v) m_v|^2
+//
+// (n_f the face's normal, k the crease's direction n_f x n_g / |n_f x n_g|
+// for the two faces across it, m_v the mean normal at the vertex): faces
+// orthogonal to their normals, creases straight, each vertex held along
+// its normal (alpha_n) more than across it (alpha_t), under the bound
+// |d_v|_inf <= 1/2 (its voxel corner's cell).
+//
+// The normal parts couple x, y and z. Each iteration therefore solves a
+// separable surrogate with the same gradient at the current positions:
+// every side's target is its current vector minus its component along the
+// face's normal (the crease's: its component along the crease), every
+// vertex's its current displacement minus the part its data term damps.
+// That is one graph Laplacian (edge weight: the number of face sides on
+// the edge, plus beta on a crease) plus (alpha_n + alpha_t) I, the same
+// for x, y and z: three right-hand sides, conjugate gradients with the
+// module's IC(0) preconditioner, and the bound kept exactly per coordinate
+// by an active set (docs/mesh.md says why and what each part does).
+#ifndef dgPiecewiseSmoothMesh_h
+#define dgPiecewiseSmoothMesh_h
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace dg
+{
+
+/// The grid behind a digital surface: world = Origin + Axes * grid, with the
+/// columns of Axes (column-major, 3 x 3) the world vectors of one voxel step
+/// along each image axis.
+struct SurfaceFrame
+{
+  double Origin[3] = { 0, 0, 0 };
+  double Axes[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
+  void ToGrid(const double* world, double* grid) const;
+  void ToWorld(const double* grid, double* world) const;
+  /// A world normal as a unit normal of the grid frame (normals map by the
+  /// transpose of Axes).
+  void NormalToGrid(const double* world, double* grid) const;
+};
+
+/// The frame from the surface's own edges: every polygon side must be one
+/// voxel step along one of three independent directions (a digital surface
+/// of any origin, spacing and orientation). False with a message otherwise.
+bool FindSurfaceFrame(std::int64_t numberOfPoints, const double* points,
+  const std::vector<std::int64_t>& offsets, const std::vector<std::int64_t>& connectivity,
+  SurfaceFrame& frame, std::string& error);
+
+struct MeshParameters
+{
+  // alpha_n: how strongly each vertex stays at its digital surface corner
+  // along its normal, against the faces' weight 1 per side. It fixes where
+  // each smooth part lies (the mean of its corners); too little and the
+  // creases' staircase pulls whole faces inwards (a rotated cube loses
+  // 1.6 % of its volume at 0.01, 0.1 % at 0.1, with the true normals).
+  double DataWeight = 0.05;
+  // alpha_t: the same across the normal (vertices slide freely along the
+  // surface, within their cell).
+  double TangentialWeight = 0.01;
+  // beta: the weight of a crease edge's straightness, against 1 per face
+  // side.
+  double CreaseWeight = 1.0;
+  // A crease edge whose two faces' normals make less than this angle
+  // (degrees) has no direction to keep: it gets no crease term.
+  double CreaseMinimumAngle = 5.0;
+  // The bound on each coordinate of a displacement (grid units).
+  double BoxHalfWidth = 0.5;
+  // Conjugate gradients' relative residual per solve.
+  double Tolerance = 1e-7;
+  int MaximumIterations = 5000;
+  // Active-set rounds per coordinate.
+  int MaximumRounds = 50;
+  // Iterations of the surrogate (each a solve from the previous one's
+  // positions).
+  int Iterations = 8;
+
+  /// Empty when valid, else what is wrong.
+  std::string Check() const;
+};
+
+struct MeshStatistics
+{
+  int Rounds[3] = { 0, 0, 0 };       // active-set rounds per coordinate
+  std::int64_t CGIterations = 0;     // all solves
+  std::int64_t BoundCoordinates = 0; // coordinates held at the box at the end
+  std::int64_t CreaseEdges = 0;      // edges with a crease term
+  bool Converged = true;             // every solve converged and the active sets settled
+  double Seconds = 0;
+};
+
+/// Vertex and face inputs of RegularizeMesh, on the caller's arrays.
+struct MeshInput
+{
+  std::int64_t NumberOfPoints = 0;
+  const double* Points = nullptr; // 3 per point, grid units
+  const std::vector<std::int64_t>* Offsets = nullptr;
+  const std::vector<std::int64_t>* Connectivity = nullptr;
+  const double* FaceNormals = nullptr; // 3 per face, unit, grid frame
+  const int* FaceRegion = nullptr;     // 1 per face, or null: no crease
+};
+
+/// Which edges are creases: the edges whose faces lie in two or more
+/// regions (or that have other than two faces, where labels meet), as
+/// vertex pairs, low id first, in increasing order.
+std::vector<std::int64_t> CreaseEdges(const MeshInput& in);
+
+/// Minimises E under the box bound. `displacement` gets 3 values per point
+/// (grid units). Returns false with a message when the input is not usable.
+bool RegularizeMesh(const MeshInput& in, const MeshParameters& p, std::vector<double>& displacement,
+  MeshStatistics& stats, std::string& error,
+  const std::function<bool(double)>& progress = nullptr);
+
+/// For each quad, which diagonal splits it: 0 for (0, 2), 1 for (1, 3):
+/// the one whose two triangles' normals stay closest to the face's normal
+/// (the least sum of (1 - cos) weighted by area). Other polygons get 0.
+std::vector<unsigned char> QuadDiagonals(const double* points,
+  const std::vector<std::int64_t>& offsets, const std::vector<std::int64_t>& connectivity,
+  const double* faceNormals);
+
+/// One copy of each point per feature region of the faces around it (a
+/// point inside one region keeps one copy): `copyOf` gets the input point
+/// of each output point, `connectivity` is rewritten onto the copies.
+/// Copies are numbered in point order, then by region.
+void SplitPointsByRegion(std::int64_t numberOfPoints, const std::vector<std::int64_t>& offsets,
+  std::vector<std::int64_t>& connectivity, const int* faceRegion, std::vector<std::int64_t>& copyOf);
+
+} // namespace dg
+
+#endif
