@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <sstream>
 #include <string>
 
 namespace dgapp
@@ -113,6 +114,16 @@ Curvature (corrected curvature measures of the final normals, docs/curvature-mea
                          PREFIX_creases.vtp and the picture PREFIX_curvature.png
   --curvature-radius R   their ball radius in voxels (default 6; implies
                          --curvature)
+Mesh (vertices moved to follow the final normals, sharp edges kept, docs/mesh.md)
+  --mesh                 the piecewise-smooth mesh: each vertex moved within its
+                         voxel corner's cell so that the faces follow the normals
+                         and the feature lines stay creases; writes
+                         PREFIX_mesh.vtp (point normals split along the creases),
+                         PREFIX_mesh_creases.vtp and the picture PREFIX_mesh.png
+  --mesh-triangles       the mesh in triangles (each quad split along the diagonal
+                         that follows its normal best); implies --mesh
+  --mesh-format LIST     also write the mesh as stl, ply and/or obj ("stl,ply"),
+                         with normals (STL: per facet; implies --mesh-triangles)
 Outputs (in --output-dir, named PREFIX_*; PREFIX defaults to the input's name)
   --output-dir DIR       default: current directory (created if missing)
   --prefix NAME          file name prefix
@@ -352,6 +363,32 @@ Options ParseOptions(int argc, char* argv[])
       o.Width = static_cast<int>(number());
     else if (arg == "--height")
       o.Height = static_cast<int>(number());
+    else if (arg == "--mesh")
+      o.Mesh = true;
+    else if (arg == "--mesh-triangles")
+      o.Mesh = o.MeshTriangles = true;
+    else if (arg == "--mesh-format")
+    {
+      o.Mesh = true;
+      std::string list = value(), item;
+      std::stringstream items(list);
+      int n = 0;
+      while (std::getline(items, item, ','))
+      {
+        ++n;
+        if (item == "stl")
+          o.MeshStl = o.MeshTriangles = true;
+        else if (item == "ply")
+          o.MeshPly = true;
+        else if (item == "obj")
+          o.MeshObj = true;
+        else
+          OptionError("--mesh-format expects stl, ply and/or obj, separated by commas (got '" +
+            item + "')");
+      }
+      if (n == 0)
+        OptionError("--mesh-format expects stl, ply and/or obj, separated by commas");
+    }
     else if (arg == "--ply")
       o.Ply = true;
     else if (arg == "--obj")

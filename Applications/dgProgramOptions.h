@@ -26,6 +26,10 @@ struct Options
   int Width = 1200, Height = 900;
   std::string Labels;      // --labels: every label's surface in one run
   bool Interfaces = false; // --interfaces: the faces between labels, once
+  // --mesh: the piecewise-smooth mesh (vtkPiecewiseSmoothMeshFilter) of the
+  // final normals, in triangles on request, also as STL / PLY / OBJ.
+  bool Mesh = false, MeshTriangles = false;
+  bool MeshStl = false, MeshPly = false, MeshObj = false;
 };
 
 /// Under mpirun every rank parses the same options: rank 0 alone prints

@@ -95,7 +95,13 @@ public:
   std::string Temporary(const std::string& final)
   {
     this->Finals.push_back(final);
-    this->Temps.push_back(final + ".part");
+    // ".part" before the extension: the PLY writer appends ".ply" to any
+    // name that does not end with it.
+    const std::size_t slash = final.find_last_of('/');
+    const std::size_t dot = final.find_last_of('.');
+    const bool hasExtension = dot != std::string::npos && (slash == std::string::npos || dot > slash);
+    this->Temps.push_back(hasExtension ? final.substr(0, dot) + ".part" + final.substr(dot)
+                                       : final + ".part");
     return this->Temps.back();
   }
   bool Commit()

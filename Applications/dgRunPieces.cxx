@@ -86,11 +86,12 @@ int RunPieces(Options opt, dg::Processes& procs)
     procs.Barrier(); // as in agreeOrFail
     return 2;
   }
-  if (opt.P.Curvature)
+  if (opt.P.Curvature || opt.Mesh)
   {
     if (root)
-      std::cerr << Program << ": --curvature is not available with " << size
-                << " processes (the curvature stage runs in one process)\n";
+      std::cerr << Program << ": " << (opt.Mesh ? "--mesh" : "--curvature")
+                << " is not available with " << size << " processes (the "
+                << (opt.Mesh ? "mesh" : "curvature") << " stage runs in one process)\n";
     procs.Barrier(); // as in agreeOrFail
     return 2;
   }

@@ -6,9 +6,11 @@
 #include "dgImageInput.h"
 #include "dgRender.h"
 #include "dgRenderCurvature.h"
+#include "dgRenderMesh.h"
 #include "dgLabels.h"
 #include "dgPipeline.h"
 #include "dgProcesses.h"
+#include "vtkPiecewiseSmoothMeshFilter.h"
 
 #include <vtkAppendPolyData.h>
 #include <vtkCellData.h>
@@ -21,6 +23,7 @@
 #include <vtkNew.h>
 #include <vtkOBJWriter.h>
 #include <vtkPLYWriter.h>
+#include <vtkSTLWriter.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
 #include <vtkSMPTools.h>
@@ -280,6 +283,25 @@ int main(int argc, char* argv[])
     lap("append");
   }
 
+  // 4b. The piecewise-smooth mesh of the final normals (every mode: one
+  // surface, labels appended, label interfaces).
+  vtkNew<vtkPiecewiseSmoothMeshFilter> mesh;
+  if (opt.Mesh)
+  {
+    vtkDataArray* normals = result->GetCellData()->GetNormals();
+    mesh->SetInputData(result);
+    mesh->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
+      normals && normals->GetName() ? normals->GetName() : "SharpNormals");
+    mesh->SetOutputTriangles(opt.MeshTriangles);
+    watch(mesh);
+    progress->Stage = "mesh";
+    t = Clock::now();
+    mesh->Update();
+    if (errors->Failed)
+      return Fail(errors->Message);
+    lap("mesh");
+  }
+
   // 5. Files.
   OutputFiles files;
   const std::string base = (std::filesystem::path(opt.OutputDir) / prefix).string();
@@ -320,6 +342,39 @@ int main(int argc, char* argv[])
     return writeFailure(base + "_features.vtp");
   if (opt.P.Curvature && !writeVtp(pipelinePtr->Creases(), base + "_creases.vtp"))
     return writeFailure(base + "_creases.vtp");
+  if (opt.Mesh)
+  {
+    if (!writeVtp(mesh->GetOutput(0), base + "_mesh.vtp"))
+      return writeFailure(base + "_mesh.vtp");
+    if (!writeVtp(mesh->GetOutput(1), base + "_mesh_creases.vtp"))
+      return writeFailure(base + "_mesh_creases.vtp");
+    if (opt.MeshStl)
+    {
+      vtkNew<vtkSTLWriter> w;
+      w->SetInputData(mesh->GetOutput(0));
+      w->SetFileTypeToBinary();
+      w->SetFileName(files.Temporary(base + "_mesh.stl").c_str());
+      if (!written(w.Get()))
+        return writeFailure(base + "_mesh.stl");
+    }
+    if (opt.MeshPly)
+    {
+      vtkNew<vtkPLYWriter> w;
+      w->SetInputData(mesh->GetOutput(0));
+      w->SetFileTypeToBinary();
+      w->SetFileName(files.Temporary(base + "_mesh.ply").c_str());
+      if (!written(w.Get()))
+        return writeFailure(base + "_mesh.ply");
+    }
+    if (opt.MeshObj)
+    {
+      vtkNew<vtkOBJWriter> w;
+      w->SetInputData(mesh->GetOutput(0));
+      w->SetFileName(files.Temporary(base + "_mesh.obj").c_str());
+      if (!written(w.Get()))
+        return writeFailure(base + "_mesh.obj");
+    }
+  }
   if (opt.Ply)
   {
     vtkNew<vtkPLYWriter> w;
@@ -350,6 +405,11 @@ int main(int argc, char* argv[])
     if (opt.P.Curvature &&
       !dg::RenderCurvaturePicture(result, pipelinePtr->Creases(), opt.Width,
         files.Temporary(base + "_curvature.png"), error))
+      return Fail(error);
+    if (opt.Mesh &&
+      !dg::RenderMeshPicture(result,
+        mesh->GetOutput(0), mesh->GetOutput(1), opt.Width, files.Temporary(base + "_mesh.png"),
+        error))
       return Fail(error);
     lap("render");
   }
@@ -406,6 +466,12 @@ int main(int argc, char* argv[])
               << " by Gauss-Bonnet, "
               << cc->GetEulerCharacteristic() << " by V - E + F\n";
   }
+  if (opt.Mesh)
+    std::cout << "  mesh: " << mesh->GetOutput(0)->GetNumberOfPolys()
+              << (opt.MeshTriangles ? " triangles" : " faces") << ", "
+              << mesh->GetNumberOfCreaseEdges() << " crease edges, largest move "
+              << mesh->GetMaximumDisplacement() << " voxel along an axis, "
+              << mesh->GetNumberOfBoundCoordinates() << " coordinates at their cell's bound\n";
   for (const auto& f : files.Finals)
     std::cout << "  wrote " << f << "\n";
   return 0;

@@ -10,6 +10,7 @@
 #include <vtkDataArray.h>
 #include <vtkDataArrayRange.h>
 #include <vtkDoubleArray.h>
+#include <vtkFloatArray.h>
 #include <vtkIdList.h>
 #include <vtkIdTypeArray.h>
 #include <vtkInformation.h>
@@ -368,7 +369,9 @@ int vtkPiecewiseSmoothMeshFilter::RequestData(
       for (int c = 0; c < 3; ++c)
         pointNormals[3 * outConn[offsets[f] + i] + c] += w * faceNormalsWorld[3 * f + c];
   }
-  vtkNew<vtkDoubleArray> pointNormalArray, shiftArray;
+  // Float normals: the PLY writer takes no others.
+  vtkNew<vtkFloatArray> pointNormalArray;
+  vtkNew<vtkDoubleArray> shiftArray;
   pointNormalArray->SetName("Normals");
   pointNormalArray->SetNumberOfComponents(3);
   pointNormalArray->SetNumberOfTuples(nOut);
