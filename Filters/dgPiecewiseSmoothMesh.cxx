@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace dg
@@ -127,8 +128,10 @@ std::string MeshParameters::Check() const
     s << "BoxHalfWidth must lie in (0, 0.5] voxel (got " << this->BoxHalfWidth << "). ";
   if (!(this->Tolerance > 0 && this->Tolerance < 1))
     s << "Tolerance must lie in (0, 1) (got " << this->Tolerance << "). ";
-  if (this->MaximumIterations < 1 || this->MaximumRounds < 1 || this->Iterations < 1)
-    s << "Iterations, MaximumIterations and MaximumRounds must be at least 1. ";
+  if (!(this->Penalty > 0) || !std::isfinite(this->Penalty))
+    s << "Penalty must be positive and finite (got " << this->Penalty << "). ";
+  if (this->MaximumIterations < 1 || this->Iterations < 1)
+    s << "Iterations and MaximumIterations must be at least 1. ";
   std::string r = s.str();
   if (!r.empty())
     r.pop_back();
@@ -154,28 +157,12 @@ std::vector<char> CreaseFlags(const ATComplex& K, const int* region)
 }
 }
 
-std::vector<std::int64_t> CreaseEdges(const MeshInput& in)
+bool RegularizeMesh(const MeshInput& in, const MeshParameters& p, MeshResult& result,
+  std::string& error, const std::function<bool(double)>& progress)
 {
-  std::vector<std::int64_t> edges;
-  ATComplex K;
-  std::string error;
-  if (!K.Build(in.NumberOfPoints, *in.Offsets, *in.Connectivity, &error))
-    return edges;
-  const std::vector<char> crease = CreaseFlags(K, in.FaceRegion);
-  for (std::int64_t e = 0; e < K.NumberOfEdges(); ++e)
-  {
-    if (crease[e])
-    {
-      edges.push_back(K.EdgeVertices[2 * e]);
-      edges.push_back(K.EdgeVertices[2 * e + 1]);
-    }
-  }
-  return edges;
-}
-
-bool RegularizeMesh(const MeshInput& in, const MeshParameters& p, std::vector<double>& displacement,
-  MeshStatistics& stats, std::string& error, const std::function<bool(double)>& progress)
-{
+  std::vector<double>& displacement = result.Displacement;
+  MeshStatistics& stats = result.Statistics;
+  result.Creases.clear();
   const auto start = std::chrono::steady_clock::now();
   stats = MeshStatistics();
   error = p.Check();
@@ -202,9 +189,10 @@ bool RegularizeMesh(const MeshInput& in, const MeshParameters& p, std::vector<do
   {
     const int j0 = K.EdgeFacePtr[e], j1 = K.EdgeFacePtr[e + 1];
     weight[e] = j1 - j0;
-    if (!crease[e] || beta == 0)
+    if (!crease[e])
       continue;
     Eigen::Vector3d k = Eigen::Vector3d::Zero();
+    int across[2] = { -1, -1 };
     for (int i = j0; i < j1; ++i)
     {
       for (int j = i + 1; j < j1; ++j)
@@ -213,11 +201,17 @@ bool RegularizeMesh(const MeshInput& in, const MeshParameters& p, std::vector<do
         if (in.FaceRegion[f] == in.FaceRegion[g])
           continue;
         const Eigen::Vector3d c = normal(f).cross(normal(g));
-        if (c.norm() > k.norm())
+        if (across[0] < 0 || c.norm() > k.norm())
+        {
           k = c;
+          across[0] = f;
+          across[1] = g;
+        }
       }
     }
-    if (!(k.norm() >= minimumSine) || k.norm() == 0)
+    result.Creases.insert(result.Creases.end(),
+      { K.EdgeVertices[2 * e], K.EdgeVertices[2 * e + 1], across[0], across[1] });
+    if (beta == 0 || !(k.norm() >= minimumSine) || k.norm() == 0)
       continue;
     creaseDirection.emplace_back(e, k.normalized());
     weight[e] += beta;
@@ -234,7 +228,8 @@ bool RegularizeMesh(const MeshInput& in, const MeshParameters& p, std::vector<do
   // current vector's component along the crease (as targets for d_b - d_a:
   // minus the digital surface's own side).
   // Vertex normals: the area-free mean of the normals of the faces around.
-  Eigen::MatrixXd vertexNormal = Eigen::MatrixXd::Zero(nv, 3);
+  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> vertexNormal =
+    Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>::Zero(nv, 3);
   for (std::int64_t f = 0; f < nf; ++f)
     for (std::int64_t i = offsets[f]; i < offsets[f + 1]; ++i)
       vertexNormal.row(conn[i]) += normal(f).transpose();
@@ -244,43 +239,61 @@ bool RegularizeMesh(const MeshInput& in, const MeshParameters& p, std::vector<do
     if (l > 0)
       vertexNormal.row(v) /= l;
   }
-  Eigen::MatrixXd b(nv, 3);
+  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> b(nv, 3);
+  std::vector<int> creaseIndex(ne, -1);
+  for (std::size_t i = 0; i < creaseDirection.size(); ++i)
+    creaseIndex[creaseDirection[i].first] = static_cast<int>(i);
+  // Each edge's target (low -> high end): the sum over its faces, plus its
+  // crease term; then each vertex gathers its edges' (both in parallel).
+  std::vector<double> edgeTarget(3 * ne);
   auto assemble = [&]()
   {
-    // The data term alpha_n (n_v . d)^2 + alpha_t |d - (n_v . d) n_v|^2, as
-    // targets from the previous pass (the same gradient where they agree).
-    for (std::int64_t v = 0; v < nv; ++v)
-    {
-      const Eigen::Vector3d d = Eigen::Map<const Eigen::Vector3d>(&displacement[3 * v]);
-      const Eigen::Vector3d nv_ = vertexNormal.row(v).transpose();
-      const Eigen::Vector3d along = nv_.dot(d) * nv_;
-      b.row(v) = (p.TangentialWeight * along + p.DataWeight * (d - along)).transpose();
-    }
-    for (const auto& ck : creaseDirection)
-    {
-      const std::int64_t e = ck.first;
-      const Eigen::Vector3d& k = ck.second;
-      const std::int64_t lo = K.EdgeVertices[2 * e], hi = K.EdgeVertices[2 * e + 1];
-      const Eigen::Vector3d now = edgeNow(lo, hi);
-      const Eigen::Vector3d c = k.dot(now) * k - (point(hi) - point(lo));
-      b.row(lo) -= beta * c.transpose();
-      b.row(hi) += beta * c.transpose();
-    }
-    for (std::int64_t f = 0; f < nf; ++f)
-    {
-      const std::int64_t m = offsets[f + 1] - offsets[f];
-      const Eigen::Vector3d n = normal(f);
-      for (std::int64_t i = 0; i < m; ++i)
+    ForBlocks(ne,
+      [&](std::int64_t, std::int64_t e0, std::int64_t e1)
       {
-        const std::int64_t a = conn[offsets[f] + i], c = conn[offsets[f] + (i + 1) % m];
-        if (a == c)
-          continue;
-        const Eigen::Vector3d now = edgeNow(a, c);
-        const Eigen::Vector3d t = now - n.dot(now) * n - (point(c) - point(a));
-        b.row(a) -= t.transpose();
-        b.row(c) += t.transpose();
-      }
-    }
+        for (std::int64_t e = e0; e < e1; ++e)
+        {
+          const std::int64_t lo = K.EdgeVertices[2 * e], hi = K.EdgeVertices[2 * e + 1];
+          const Eigen::Vector3d now = edgeNow(lo, hi);
+          const Eigen::Vector3d side = point(hi) - point(lo);
+          Eigen::Vector3d t = Eigen::Vector3d::Zero();
+          for (int j = K.EdgeFacePtr[e]; j < K.EdgeFacePtr[e + 1]; ++j)
+          {
+            const Eigen::Vector3d n = normal(K.EdgeFaces[j]);
+            t += now - n.dot(now) * n - side;
+          }
+          if (creaseIndex[e] >= 0)
+          {
+            const Eigen::Vector3d& k = creaseDirection[creaseIndex[e]].second;
+            t += beta * (k.dot(now) * k - side);
+          }
+          Eigen::Map<Eigen::Vector3d> out(&edgeTarget[3 * e]);
+          out = t;
+        }
+      });
+    // The data term alpha_n (m_v . d)^2 + alpha_t |d - (m_v . d) m_v|^2, as
+    // targets from the previous iteration (the same gradient where they agree).
+    ForBlocks(nv,
+      [&](std::int64_t, std::int64_t v0, std::int64_t v1)
+      {
+        for (std::int64_t v = v0; v < v1; ++v)
+        {
+          const Eigen::Vector3d d = Eigen::Map<const Eigen::Vector3d>(&displacement[3 * v]);
+          const Eigen::Vector3d m = vertexNormal.row(v).transpose();
+          const Eigen::Vector3d along = m.dot(d) * m;
+          Eigen::Vector3d r = p.TangentialWeight * along + p.DataWeight * (d - along);
+          for (int j = K.VertexEdgePtr[v]; j < K.VertexEdgePtr[v + 1]; ++j)
+          {
+            const int e = K.VertexEdges[j];
+            const Eigen::Map<const Eigen::Vector3d> t(&edgeTarget[3 * e]);
+            if (K.EdgeVertices[2 * e] == v)
+              r -= t;
+            else
+              r += t;
+          }
+          b.row(v) = r.transpose();
+        }
+      });
   };
   // The system's diagonal (without the bound) and each non-zero's edge.
   ATPattern& P = K.VPattern;
@@ -301,123 +314,80 @@ bool RegularizeMesh(const MeshInput& in, const MeshParameters& p, std::vector<do
     }
   }
 
-  std::unique_ptr<ATLinearSystem> system =
-    MakeICSystem(p.Tolerance, p.MaximumIterations, nullptr, 1, false);
+  // The bound by ADMM on the split d = z, z in the box: each iteration
+  // solves (L + (alpha_n + alpha_t + rho) I) d = b + rho (z - u) for x, y
+  // and z at once (one matrix for the whole run: factorised once), then
+  // z = clamp(d + u), u += d - z. The surrogate's targets are taken at z,
+  // which is always in the box, and z is the result.
+  const double rho = p.Penalty;
   std::vector<double> values(P.NonZeros());
+  for (std::int64_t a = 0; a < nv; ++a)
+  {
+    for (int k = outer[a]; k < outer[a + 1]; ++k)
+      values[k] = inner[k] == a ? diagonal[a] + rho : -weight[entryEdge[k]];
+  }
+  const ATSystemView m = P.View(values.data());
+  ATParameters sp;
+  sp.Solver = ATLinearSolver::ConjugateGradientIC;
+  sp.CGTolerance = p.EarlyTolerance;
+  sp.CGMaximumIterations = p.MaximumIterations;
+  sp.CGSinglePrecision = false;
+  std::unique_ptr<ATLinearSystem> system = MakeATLinearSystem(sp);
+  if (!system->Analyze(m) || !system->Factorize(m))
+  {
+    error = "the mesh's system could not be factorised";
+    return false;
+  }
   const double h = p.BoxHalfWidth;
-  Eigen::VectorXd x(nv), rhs(nv);
-  std::vector<signed char> bound(nv);
-  std::vector<signed char> bounds(3 * nv, 0);
+  Eigen::MatrixXd d = Eigen::MatrixXd::Zero(nv, 3), u = Eigen::MatrixXd::Zero(nv, 3);
+  Eigen::MatrixXd rhs(nv, 3);
+  double residual = 0;
   for (int pass = 0; pass < p.Iterations; ++pass)
   {
-  assemble();
-  stats.BoundCoordinates = 0;
-  for (int c = 0; c < 3; ++c)
-  {
-    for (std::int64_t a = 0; a < nv; ++a)
+    const bool last = pass + 1 == p.Iterations;
+    system->SetTolerance(last ? p.Tolerance : p.EarlyTolerance);
+    assemble();
+    ForBlocks(nv,
+      [&](std::int64_t, std::int64_t a0, std::int64_t a1)
+      {
+        for (std::int64_t a = a0; a < a1; ++a)
+          for (int c = 0; c < 3; ++c)
+            rhs(a, c) = b(a, c) + rho * (displacement[3 * a + c] - u(a, c));
+      });
+    const std::int64_t it0 = system->Iterations;
+    const bool ok = system->Solve(m, ATRhs::Of(rhs), ATColumns(d));
+    stats.CGIterations += system->Iterations - it0;
+    if (!ok)
     {
-      x[a] = displacement[3 * a + c];
-      bound[a] = bounds[3 * a + c];
-    }
-    bool settled = false;
-    for (int round = 0; round < p.MaximumRounds && !settled; ++round)
-    {
-      ++stats.Rounds[c];
-      // Rows held at the box become x = bound; their columns move to the
-      // right-hand side, so the matrix stays symmetric.
-      ForBlocks(nv,
-        [&](std::int64_t, std::int64_t a0, std::int64_t a1)
-        {
-          for (std::int64_t a = a0; a < a1; ++a)
-          {
-            if (bound[a])
-            {
-              for (int k = outer[a]; k < outer[a + 1]; ++k)
-                values[k] = inner[k] == a ? 1.0 : 0.0;
-              rhs[a] = bound[a] * h;
-              continue;
-            }
-            double r = b(a, c);
-            for (int k = outer[a]; k < outer[a + 1]; ++k)
-            {
-              const int j = inner[k];
-              if (j == a)
-                values[k] = diagonal[a];
-              else if (bound[j])
-              {
-                values[k] = 0;
-                r += weight[entryEdge[k]] * bound[j] * h;
-              }
-              else
-                values[k] = -weight[entryEdge[k]];
-            }
-            rhs[a] = r;
-          }
-        });
-      const ATSystemView m = P.View(values.data());
-      const std::int64_t it0 = system->Iterations;
-      if (!system->Analyzed)
-        system->Analyzed = system->Analyze(m);
-      const bool ok = system->Analyzed && system->Factorize(m) &&
-        system->Solve(m, ATRhs::Of(rhs), ATColumns(x));
-      stats.CGIterations += system->Iterations - it0;
-      if (!ok)
+      stats.Converged = !last && stats.Converged;
+      if (!d.allFinite())
       {
-        stats.Converged = false;
-        if (!x.allFinite())
-        {
-          error = "the linear solve failed (non-finite result)";
-          return false;
-        }
-      }
-      // New bounds where the solution leaves the box; bounds released where
-      // the energy's gradient points back into it (KKT). After half the
-      // rounds only new bounds are taken, so the sets cannot cycle.
-      const bool release = round < p.MaximumRounds / 2;
-      std::int64_t changes = 0;
-      for (std::int64_t a = 0; a < nv; ++a)
-      {
-        if (!bound[a])
-        {
-          if (std::abs(x[a]) > h)
-          {
-            bound[a] = x[a] > 0 ? 1 : -1;
-            x[a] = bound[a] * h;
-            ++changes;
-          }
-          continue;
-        }
-        if (!release)
-          continue;
-        double g = diagonal[a] * x[a] - b(a, c);
-        for (int k = outer[a]; k < outer[a + 1]; ++k)
-        {
-          if (inner[k] != a)
-            g -= weight[entryEdge[k]] * x[inner[k]];
-        }
-        if (bound[a] * g > 1e-12 * (1 + std::abs(b(a, c))))
-        {
-          bound[a] = 0;
-          ++changes;
-        }
-      }
-      settled = changes == 0;
-      if (progress &&
-        !progress((3 * pass + c + std::min(1.0, (round + 1) / 4.0)) / (3.0 * p.Iterations)))
-      {
-        error = "aborted";
+        error = "the linear solve failed (non-finite result)";
         return false;
       }
     }
-    stats.Converged &= settled;
+    residual = 0;
+    std::int64_t held = 0;
     for (std::int64_t a = 0; a < nv; ++a)
     {
-      displacement[3 * a + c] = std::max(-h, std::min(h, x[a]));
-      bounds[3 * a + c] = bound[a];
-      stats.BoundCoordinates += bound[a] != 0;
+      for (int c = 0; c < 3; ++c)
+      {
+        const double w = d(a, c) + u(a, c);
+        const double z = std::max(-h, std::min(h, w));
+        held += z != w;
+        u(a, c) = w - z;
+        residual = std::max(residual, std::abs(d(a, c) - z));
+        displacement[3 * a + c] = z;
+      }
+    }
+    stats.BoundCoordinates = held;
+    if (progress && !progress((pass + 1.0) / p.Iterations))
+    {
+      error = "aborted";
+      return false;
     }
   }
-  }
+  stats.PrimalResidual = residual;
   stats.Seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return true;
 }
@@ -457,47 +427,63 @@ void SplitPointsByRegion(std::int64_t numberOfPoints, const std::vector<std::int
 {
   const std::int64_t nf = offsets.empty() ? 0 : static_cast<std::int64_t>(offsets.size()) - 1;
   copyOf.clear();
-  if (!faceRegion)
-  {
-    copyOf.resize(numberOfPoints);
-    for (std::int64_t v = 0; v < numberOfPoints; ++v)
-      copyOf[v] = v;
-    return;
-  }
-  // (point, region, corner) sorted: one copy per distinct (point, region).
-  struct Corner
-  {
-    std::int64_t Point;
-    int Region;
-    std::int64_t Index;
-  };
-  std::vector<Corner> corners;
-  corners.reserve(connectivity.size());
-  for (std::int64_t f = 0; f < nf; ++f)
+  // The points with faces in two or more regions, and their regions.
+  constexpr int none = std::numeric_limits<int>::min();
+  std::vector<int> first(numberOfPoints, none);
+  std::vector<char> shared(numberOfPoints, 0);
+  for (std::int64_t f = 0; faceRegion && f < nf; ++f)
   {
     for (std::int64_t i = offsets[f]; i < offsets[f + 1]; ++i)
-      corners.push_back({ connectivity[i], faceRegion[f], i });
-  }
-  std::sort(corners.begin(), corners.end(),
-    [](const Corner& a, const Corner& b)
-    { return a.Point != b.Point ? a.Point < b.Point : a.Region < b.Region; });
-  std::vector<char> used(numberOfPoints, 0);
-  for (std::size_t i = 0; i < corners.size(); ++i)
-  {
-    if (i == 0 || corners[i].Point != corners[i - 1].Point ||
-      corners[i].Region != corners[i - 1].Region)
     {
-      copyOf.push_back(corners[i].Point);
-      used[corners[i].Point] = 1;
+      const std::int64_t v = connectivity[i];
+      if (first[v] == none)
+        first[v] = faceRegion[f];
+      else if (first[v] != faceRegion[f])
+        shared[v] = 1;
     }
-    connectivity[corners[i].Index] = static_cast<std::int64_t>(copyOf.size()) - 1;
   }
-  // Points no polygon uses keep one copy, after the others.
+  std::vector<std::pair<std::int64_t, int>> pointRegions;
+  for (std::int64_t f = 0; faceRegion && f < nf; ++f)
+    for (std::int64_t i = offsets[f]; i < offsets[f + 1]; ++i)
+      if (shared[connectivity[i]])
+        pointRegions.emplace_back(connectivity[i], faceRegion[f]);
+  std::sort(pointRegions.begin(), pointRegions.end());
+  pointRegions.erase(std::unique(pointRegions.begin(), pointRegions.end()), pointRegions.end());
+  // Copies in point order, a shared point's by region.
+  std::vector<std::int64_t> start(numberOfPoints);
+  copyOf.reserve(numberOfPoints + pointRegions.size());
+  std::size_t j = 0;
   for (std::int64_t v = 0; v < numberOfPoints; ++v)
   {
-    if (!used[v])
+    start[v] = static_cast<std::int64_t>(copyOf.size());
+    if (!shared[v])
+    {
+      copyOf.push_back(v);
+      continue;
+    }
+    for (; j < pointRegions.size() && pointRegions[j].first == v; ++j)
       copyOf.push_back(v);
   }
+  for (std::int64_t f = 0; faceRegion && f < nf; ++f)
+  {
+    for (std::int64_t i = offsets[f]; i < offsets[f + 1]; ++i)
+    {
+      const std::int64_t v = connectivity[i];
+      if (!shared[v])
+      {
+        connectivity[i] = start[v];
+        continue;
+      }
+      const auto it = std::lower_bound(pointRegions.begin(), pointRegions.end(),
+        std::make_pair(v, faceRegion[f]));
+      const auto begin = std::lower_bound(pointRegions.begin(), pointRegions.end(),
+        std::make_pair(v, std::numeric_limits<int>::min()));
+      connectivity[i] = start[v] + (it - begin);
+    }
+  }
+  if (!faceRegion)
+    for (std::int64_t i = 0; i < static_cast<std::int64_t>(connectivity.size()); ++i)
+      connectivity[i] = start[connectivity[i]];
 }
 
 } // namespace dg

@@ -28,8 +28,11 @@
 // That is one graph Laplacian (edge weight: the number of face sides on
 // the edge, plus beta on a crease) plus (alpha_n + alpha_t) I, the same
 // for x, y and z: three right-hand sides, conjugate gradients with the
-// module's IC(0) preconditioner, and the bound kept exactly per coordinate
-// by an active set (docs/mesh.md says why and what each part does).
+// module's IC(0) preconditioner. The bound is kept by ADMM on the split
+// d = z, z in the box, one ADMM step per iteration: the matrix gains rho I
+// and never changes, so it is factorised once and the three coordinates
+// share every sweep over it; z, the result, is always in the box
+// (docs/mesh.md says why and what each part does).
 #ifndef dgPiecewiseSmoothMesh_h
 #define dgPiecewiseSmoothMesh_h
 
@@ -81,14 +84,16 @@ struct MeshParameters
   double CreaseMinimumAngle = 5.0;
   // The bound on each coordinate of a displacement (grid units).
   double BoxHalfWidth = 0.5;
-  // Conjugate gradients' relative residual per solve.
-  double Tolerance = 1e-7;
+  // Conjugate gradients' relative residual in the last iteration.
+  double Tolerance = 1e-5;
+  // The same for the iterations before the last.
+  double EarlyTolerance = 1e-3;
   int MaximumIterations = 5000;
-  // Active-set rounds per coordinate.
-  int MaximumRounds = 50;
+  // ADMM's penalty on d - z (against the faces' weight 1 per side).
+  double Penalty = 1.0;
   // Iterations of the surrogate (each a solve from the previous one's
   // positions).
-  int Iterations = 8;
+  int Iterations = 16;
 
   /// Empty when valid, else what is wrong.
   std::string Check() const;
@@ -96,11 +101,11 @@ struct MeshParameters
 
 struct MeshStatistics
 {
-  int Rounds[3] = { 0, 0, 0 };       // active-set rounds per coordinate
   std::int64_t CGIterations = 0;     // all solves
   std::int64_t BoundCoordinates = 0; // coordinates held at the box at the end
   std::int64_t CreaseEdges = 0;      // edges with a crease term
-  bool Converged = true;             // every solve converged and the active sets settled
+  bool Converged = true;             // every solve converged
+  double PrimalResidual = 0;         // max |d - z| of the last ADMM iteration (grid units)
   double Seconds = 0;
 };
 
@@ -115,16 +120,20 @@ struct MeshInput
   const int* FaceRegion = nullptr;     // 1 per face, or null: no crease
 };
 
-/// Which edges are creases: the edges whose faces lie in two or more
-/// regions (or that have other than two faces, where labels meet), as
-/// vertex pairs, low id first, in increasing order.
-std::vector<std::int64_t> CreaseEdges(const MeshInput& in);
+struct MeshResult
+{
+  std::vector<double> Displacement; // 3 per point, grid units
+  // The edges between faces of two regions (or more, where labels meet),
+  // 4 values each: low and high point, and the two faces across the edge
+  // whose normals differ most; ascending by (low, high).
+  std::vector<std::int64_t> Creases;
+  MeshStatistics Statistics;
+};
 
-/// Minimises E under the box bound. `displacement` gets 3 values per point
-/// (grid units). Returns false with a message when the input is not usable.
-bool RegularizeMesh(const MeshInput& in, const MeshParameters& p, std::vector<double>& displacement,
-  MeshStatistics& stats, std::string& error,
-  const std::function<bool(double)>& progress = nullptr);
+/// Minimises E under the box bound. Returns false with a message when the
+/// input is not usable.
+bool RegularizeMesh(const MeshInput& in, const MeshParameters& p, MeshResult& result,
+  std::string& error, const std::function<bool(double)>& progress = nullptr);
 
 /// For each quad, which diagonal splits it: 0 for (0, 2), 1 for (1, 3):
 /// the one whose two triangles' normals stay closest to the face's normal

@@ -20,6 +20,7 @@
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkSMPTools.h>
 #include <vtkSmartPointer.h>
 
 #include <algorithm>
@@ -61,6 +62,16 @@ int vtkPiecewiseSmoothMeshFilter::FillInputPortInformation(int, vtkInformation* 
 
 namespace
 {
+// 0, 1, ..., n - 1: the destination of an id-list copy of data.
+vtkSmartPointer<vtkIdList> Iota(vtkIdType n)
+{
+  auto ids = vtkSmartPointer<vtkIdList>::New();
+  ids->SetNumberOfIds(n);
+  for (vtkIdType i = 0; i < n; ++i)
+    ids->SetId(i, i);
+  return ids;
+}
+
 // The regions the creases separate: the feature regions, split further by
 // label pair on label-map interfaces. Compact ids in order of first use.
 std::vector<int> MeshRegions(vtkPolyData* input, vtkDataArray* regions,
@@ -225,9 +236,8 @@ int vtkPiecewiseSmoothMeshFilter::RequestData(
   in.Connectivity = &conn;
   in.FaceNormals = gridNormals.data();
   in.FaceRegion = region.empty() ? nullptr : region.data();
-  std::vector<double> displacement;
-  dg::MeshStatistics stats;
-  const bool ok = dg::RegularizeMesh(in, par, displacement, stats, problem,
+  dg::MeshResult res;
+  const bool ok = dg::RegularizeMesh(in, par, res, problem,
     [this](double done)
     {
       this->UpdateProgress(0.05 + 0.85 * done);
@@ -240,110 +250,28 @@ int vtkPiecewiseSmoothMeshFilter::RequestData(
     vtkErrorMacro("The piecewise-smooth mesh failed: " << problem);
     return 0;
   }
+  const dg::MeshStatistics& stats = res.Statistics;
   if (!stats.Converged)
-    vtkWarningMacro("The mesh's solve did not fully converge (active-set rounds "
-      << stats.Rounds[0] << ", " << stats.Rounds[1] << ", " << stats.Rounds[2]
-      << "): every vertex is still within its cell.");
+    vtkWarningMacro("The mesh's last solve did not converge to its tolerance: every vertex is "
+                    "still within its cell.");
   this->NumberOfBoundCoordinates = stats.BoundCoordinates;
   this->Converged = stats.Converged;
-  for (double d : displacement)
+  for (double d : res.Displacement)
     this->MaximumDisplacement = std::max(this->MaximumDisplacement, std::abs(d));
 
   // The moved points, world coordinates.
-  std::vector<double> moved(3 * nPoints), shift(3 * nPoints);
-  for (vtkIdType p = 0; p < nPoints; ++p)
-  {
-    double g[3];
-    for (int c = 0; c < 3; ++c)
-      g[c] = grid[3 * p + c] + displacement[3 * p + c];
-    frame.ToWorld(g, &moved[3 * p]);
-    for (int c = 0; c < 3; ++c)
-      shift[3 * p + c] = moved[3 * p + c] - world[3 * p + c];
-  }
-
-  // Port 1: the creases on the moved points (before any split).
-  const std::vector<std::int64_t> creases = dg::CreaseEdges(in);
-  this->NumberOfCreaseEdges = static_cast<vtkIdType>(creases.size() / 2);
-  {
-    std::vector<vtkIdType> used(nPoints, -1);
-    vtkNew<vtkPoints> pts;
-    pts->SetDataTypeToDouble();
-    vtkNew<vtkIdList> linePointIds;
-    vtkNew<vtkCellArray> ca;
-    for (std::size_t i = 0; i < creases.size(); ++i)
+  std::vector<double> moved(3 * nPoints);
+  vtkSMPTools::For(0, nPoints,
+    [&](vtkIdType p0, vtkIdType p1)
     {
-      const std::int64_t p = creases[i];
-      if (used[p] < 0)
+      for (vtkIdType p = p0; p < p1; ++p)
       {
-        used[p] = pts->InsertNextPoint(&moved[3 * p]);
-        linePointIds->InsertNextId(p);
+        double g[3];
+        for (int c = 0; c < 3; ++c)
+          g[c] = grid[3 * p + c] + res.Displacement[3 * p + c];
+        frame.ToWorld(g, &moved[3 * p]);
       }
-    }
-    // The angle across each crease edge: the largest between its faces.
-    std::vector<std::vector<std::int64_t>> edgeFaces;
-    std::map<std::pair<std::int64_t, std::int64_t>, std::size_t> edgeIndex;
-    for (std::size_t e = 0; e < creases.size() / 2; ++e)
-      edgeIndex[{ creases[2 * e], creases[2 * e + 1] }] = e;
-    edgeFaces.resize(creases.size() / 2);
-    for (vtkIdType f = 0; f < nFaces; ++f)
-    {
-      const std::int64_t m = offsets[f + 1] - offsets[f];
-      for (std::int64_t i = 0; i < m; ++i)
-      {
-        std::int64_t a = conn[offsets[f] + i], b = conn[offsets[f] + (i + 1) % m];
-        if (a > b)
-          std::swap(a, b);
-        auto found = edgeIndex.find({ a, b });
-        if (found != edgeIndex.end())
-          edgeFaces[found->second].push_back(f);
-      }
-    }
-    vtkNew<vtkDoubleArray> angle;
-    angle->SetName("FeatureAngle");
-    angle->SetNumberOfValues(static_cast<vtkIdType>(edgeFaces.size()));
-    const auto nt = vtk::DataArrayTupleRange<3>(normals);
-    for (std::size_t e = 0; e < edgeFaces.size(); ++e)
-    {
-      const vtkIdType ids[2] = { used[creases[2 * e]], used[creases[2 * e + 1]] };
-      ca->InsertNextCell(2, ids);
-      double best = 0;
-      for (std::size_t i = 0; i < edgeFaces[e].size(); ++i)
-        for (std::size_t j = i + 1; j < edgeFaces[e].size(); ++j)
-        {
-          double dot = 0;
-          for (int c = 0; c < 3; ++c)
-            dot += static_cast<double>(nt[faceCell[edgeFaces[e][i]]][c]) *
-              static_cast<double>(nt[faceCell[edgeFaces[e][j]]][c]);
-          best = std::max(best, std::acos(std::max(-1.0, std::min(1.0, dot))) * 180.0 / M_PI);
-        }
-      angle->SetValue(static_cast<vtkIdType>(e), best);
-    }
-    lines->SetPoints(pts);
-    lines->SetLines(ca);
-    lines->GetPointData()->CopyAllocate(input->GetPointData(), linePointIds->GetNumberOfIds());
-    for (vtkIdType i = 0; i < linePointIds->GetNumberOfIds(); ++i)
-      lines->GetPointData()->CopyData(input->GetPointData(), linePointIds->GetId(i), i);
-    lines->GetCellData()->AddArray(angle);
-    lines->GetCellData()->SetActiveScalars("FeatureAngle");
-  }
-
-  // Port 0: split the crease points per region, then the faces.
-  std::vector<std::int64_t> outConn = conn, copyOf;
-  dg::SplitPointsByRegion(nPoints, offsets, outConn,
-    this->SplitFeaturePoints && !region.empty() ? region.data() : nullptr, copyOf);
-  const vtkIdType nOut = static_cast<vtkIdType>(copyOf.size());
-  vtkNew<vtkPoints> pts;
-  pts->SetDataTypeToDouble();
-  pts->SetNumberOfPoints(nOut);
-  std::vector<double> outPoints(3 * nOut);
-  for (vtkIdType p = 0; p < nOut; ++p)
-  {
-    std::copy_n(&moved[3 * copyOf[p]], 3, &outPoints[3 * p]);
-    pts->SetPoint(p, &outPoints[3 * p]);
-  }
-  // Point normals: the area-weighted mean of the field over each point's
-  // faces (those of its region, when split).
-  std::vector<double> pointNormals(3 * nOut, 0.0);
+    });
   std::vector<double> faceNormalsWorld(3 * nFaces);
   {
     const auto nt = vtk::DataArrayTupleRange<3>(normals);
@@ -351,6 +279,76 @@ int vtkPiecewiseSmoothMeshFilter::RequestData(
       for (int c = 0; c < 3; ++c)
         faceNormalsWorld[3 * f + c] = static_cast<double>(nt[faceCell[f]][c]);
   }
+
+  // Port 1: the creases on the moved points (before any split), with the
+  // angle between the normals across each.
+  {
+    const vtkIdType nLines = static_cast<vtkIdType>(res.Creases.size() / 4);
+    std::vector<vtkIdType> used(nPoints, -1);
+    std::vector<vtkIdType> linePoint; // input point of each line point
+    vtkNew<vtkIdTypeArray> lineOffsets, lineConn;
+    lineOffsets->SetNumberOfValues(nLines + 1);
+    lineConn->SetNumberOfValues(2 * nLines);
+    vtkNew<vtkDoubleArray> angle;
+    angle->SetName("FeatureAngle");
+    angle->SetNumberOfValues(nLines);
+    for (vtkIdType l = 0; l < nLines; ++l)
+    {
+      for (int k = 0; k < 2; ++k)
+      {
+        const std::int64_t p = res.Creases[4 * l + k];
+        if (used[p] < 0)
+        {
+          used[p] = static_cast<vtkIdType>(linePoint.size());
+          linePoint.push_back(p);
+        }
+        lineConn->SetValue(2 * l + k, used[p]);
+      }
+      lineOffsets->SetValue(l, 2 * l);
+      const double* a = &faceNormalsWorld[3 * res.Creases[4 * l + 2]];
+      const double* b = &faceNormalsWorld[3 * res.Creases[4 * l + 3]];
+      const double dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+      angle->SetValue(l, std::acos(std::max(-1.0, std::min(1.0, dot))) * 180.0 / M_PI);
+    }
+    lineOffsets->SetValue(nLines, 2 * nLines);
+    vtkNew<vtkPoints> pts;
+    pts->SetDataTypeToDouble();
+    pts->SetNumberOfPoints(static_cast<vtkIdType>(linePoint.size()));
+    for (std::size_t i = 0; i < linePoint.size(); ++i)
+      pts->SetPoint(static_cast<vtkIdType>(i), &moved[3 * linePoint[i]]);
+    vtkNew<vtkCellArray> ca;
+    ca->SetData(lineOffsets, lineConn);
+    lines->SetPoints(pts);
+    lines->SetLines(ca);
+    vtkPointData* pd = lines->GetPointData();
+    pd->CopyAllocate(input->GetPointData(), static_cast<vtkIdType>(linePoint.size()));
+    for (std::size_t i = 0; i < linePoint.size(); ++i)
+      pd->CopyData(input->GetPointData(), linePoint[i], static_cast<vtkIdType>(i));
+    lines->GetCellData()->AddArray(angle);
+    lines->GetCellData()->SetActiveScalars("FeatureAngle");
+  }
+  this->NumberOfCreaseEdges = static_cast<vtkIdType>(res.Creases.size() / 4);
+
+  // Port 0: split the crease points per region, then the faces.
+  std::vector<std::int64_t> outConn = conn, copyOf;
+  dg::SplitPointsByRegion(nPoints, offsets, outConn,
+    this->SplitFeaturePoints && !region.empty() ? region.data() : nullptr, copyOf);
+  const vtkIdType nOut = static_cast<vtkIdType>(copyOf.size());
+  vtkNew<vtkDoubleArray> outPointArray;
+  outPointArray->SetNumberOfComponents(3);
+  outPointArray->SetNumberOfTuples(nOut);
+  double* outPoints = outPointArray->GetPointer(0);
+  vtkSMPTools::For(0, nOut,
+    [&](vtkIdType p0, vtkIdType p1)
+    {
+      for (vtkIdType p = p0; p < p1; ++p)
+        std::copy_n(&moved[3 * copyOf[p]], 3, outPoints + 3 * p);
+    });
+  vtkNew<vtkPoints> pts;
+  pts->SetData(outPointArray);
+  // Point normals: the area-weighted mean of the field over each point's
+  // faces (those of its region, when split).
+  std::vector<double> pointNormals(3 * nOut, 0.0);
   for (vtkIdType f = 0; f < nFaces; ++f)
   {
     const std::int64_t m = offsets[f + 1] - offsets[f];
@@ -358,8 +356,8 @@ int vtkPiecewiseSmoothMeshFilter::RequestData(
     double area[3] = { 0, 0, 0 };
     for (std::int64_t i = 0; i < m; ++i)
     {
-      const double* a = &outPoints[3 * outConn[offsets[f] + i]];
-      const double* b = &outPoints[3 * outConn[offsets[f] + (i + 1) % m]];
+      const double* a = outPoints + 3 * outConn[offsets[f] + i];
+      const double* b = outPoints + 3 * outConn[offsets[f] + (i + 1) % m];
       area[0] += (a[1] - b[1]) * (a[2] + b[2]);
       area[1] += (a[2] - b[2]) * (a[0] + b[0]);
       area[2] += (a[0] - b[0]) * (a[1] + b[1]);
@@ -378,28 +376,36 @@ int vtkPiecewiseSmoothMeshFilter::RequestData(
   shiftArray->SetName("MeshDisplacement");
   shiftArray->SetNumberOfComponents(3);
   shiftArray->SetNumberOfTuples(nOut);
-  for (vtkIdType p = 0; p < nOut; ++p)
-  {
-    double* n = &pointNormals[3 * p];
-    const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    for (int c = 0; c < 3; ++c)
-      n[c] = len > 0 ? n[c] / len : 0.0;
-    pointNormalArray->SetTuple(p, n);
-    shiftArray->SetTuple(p, &shift[3 * copyOf[p]]);
-  }
+  vtkSMPTools::For(0, nOut,
+    [&](vtkIdType p0, vtkIdType p1)
+    {
+      for (vtkIdType p = p0; p < p1; ++p)
+      {
+        const double* n = &pointNormals[3 * p];
+        const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        const std::int64_t q = copyOf[p];
+        for (int c = 0; c < 3; ++c)
+        {
+          pointNormalArray->SetTypedComponent(p, c, static_cast<float>(len > 0 ? n[c] / len : 0.0));
+          shiftArray->SetTypedComponent(p, c, moved[3 * q + c] - world[3 * q + c]);
+        }
+      }
+    });
 
-  vtkNew<vtkCellArray> cells;
-  vtkCellData* outCD = output->GetCellData();
-  vtkCellData* inCD = input->GetCellData();
+  // Cells: quads (the input's polygons), or two triangles per quad; the
+  // input cell of each output cell carries its data over.
+  vtkNew<vtkIdTypeArray> cellOffsets, cellConn;
+  vtkNew<vtkIdList> cellSource;
   if (this->OutputTriangles)
   {
     const std::vector<unsigned char> diagonal =
-      dg::QuadDiagonals(outPoints.data(), offsets, outConn, faceNormalsWorld.data());
+      dg::QuadDiagonals(outPoints, offsets, outConn, faceNormalsWorld.data());
     vtkIdType nTriangles = 0;
     for (vtkIdType f = 0; f < nFaces; ++f)
-      nTriangles += offsets[f + 1] - offsets[f] - 2;
-    outCD->CopyAllocate(inCD, nTriangles);
-    cells->AllocateExact(nTriangles, 3 * nTriangles);
+      nTriangles += std::max<vtkIdType>(0, offsets[f + 1] - offsets[f] - 2);
+    cellOffsets->SetNumberOfValues(nTriangles + 1);
+    cellConn->SetNumberOfValues(3 * nTriangles);
+    cellSource->SetNumberOfIds(nTriangles);
     vtkIdType t = 0;
     for (vtkIdType f = 0; f < nFaces; ++f)
     {
@@ -407,34 +413,41 @@ int vtkPiecewiseSmoothMeshFilter::RequestData(
       const std::int64_t m = offsets[f + 1] - offsets[f];
       // A quad along its diagonal; other polygons as a fan.
       const int s = m == 4 ? diagonal[f] : 0;
-      for (std::int64_t i = 1; i + 1 < m; ++i)
+      for (std::int64_t i = 1; i + 1 < m; ++i, ++t)
       {
-        const vtkIdType tri[3] = { static_cast<vtkIdType>(q[s % m]),
-          static_cast<vtkIdType>(q[(s + i) % m]), static_cast<vtkIdType>(q[(s + i + 1) % m]) };
-        cells->InsertNextCell(3, tri);
-        outCD->CopyData(inCD, faceCell[f], t++);
+        cellOffsets->SetValue(t, 3 * t);
+        cellConn->SetValue(3 * t, q[s % m]);
+        cellConn->SetValue(3 * t + 1, q[(s + i) % m]);
+        cellConn->SetValue(3 * t + 2, q[(s + i + 1) % m]);
+        cellSource->SetId(t, faceCell[f]);
       }
     }
+    cellOffsets->SetValue(nTriangles, 3 * nTriangles);
   }
   else
   {
-    outCD->CopyAllocate(inCD, nFaces);
-    cells->AllocateExact(nFaces, static_cast<vtkIdType>(outConn.size()));
-    std::vector<vtkIdType> ids;
+    cellOffsets->SetNumberOfValues(nFaces + 1);
+    cellConn->SetNumberOfValues(static_cast<vtkIdType>(outConn.size()));
+    cellSource->SetNumberOfIds(nFaces);
+    std::copy(offsets.begin(), offsets.end(), cellOffsets->GetPointer(0));
+    std::copy(outConn.begin(), outConn.end(), cellConn->GetPointer(0));
     for (vtkIdType f = 0; f < nFaces; ++f)
-    {
-      ids.assign(outConn.begin() + offsets[f], outConn.begin() + offsets[f + 1]);
-      cells->InsertNextCell(static_cast<vtkIdType>(ids.size()), ids.data());
-      outCD->CopyData(inCD, faceCell[f], f);
-    }
+      cellSource->SetId(f, faceCell[f]);
   }
+  vtkNew<vtkCellArray> cells;
+  cells->SetData(cellOffsets, cellConn);
   output->SetPoints(pts);
   output->SetPolys(cells);
+  output->GetCellData()->CopyAllocate(input->GetCellData(), cellSource->GetNumberOfIds());
+  output->GetCellData()->CopyData(input->GetCellData(), cellSource, Iota(cellSource->GetNumberOfIds()));
+  vtkNew<vtkIdList> pointSource;
+  pointSource->SetNumberOfIds(nOut);
+  for (vtkIdType p = 0; p < nOut; ++p)
+    pointSource->SetId(p, copyOf[p]);
   vtkPointData* outPD = output->GetPointData();
   outPD->CopyAllocate(input->GetPointData(), nOut);
   outPD->CopyNormalsOff();
-  for (vtkIdType p = 0; p < nOut; ++p)
-    outPD->CopyData(input->GetPointData(), copyOf[p], p);
+  outPD->CopyData(input->GetPointData(), pointSource, Iota(nOut));
   outPD->AddArray(shiftArray);
   outPD->SetNormals(pointNormalArray);
   output->GetFieldData()->ShallowCopy(input->GetFieldData());
