@@ -146,7 +146,7 @@ def measure(mesh, f, centre, sharp):
     area = np.linalg.norm(vec, axis=1)
     nm = vec / np.maximum(area, 1e-300)[:, None]
     ang = np.degrees(np.arccos(np.clip((nm * g).sum(1), -1, 1)))
-    out = {"mean": d.mean(), "p99": np.percentile(d, 99), "ang": (ang * area).sum() / area.sum(),
+    out = {"area": area, "mean": d.mean(), "p99": np.percentile(d, 99), "ang": (ang * area).sum() / area.sum(),
            "angp95": np.percentile(ang, 95)}
     if sharp:
         # vertices within 2 voxels of a true edge: where the gradient at the
@@ -209,16 +209,17 @@ def main():
             res, nm, polys = measure(mesh, f, centre, sharp)
             field = vtk_to_numpy(mesh.GetCellData().GetArray("SharpNormals"))
             flipped = int(((nm * field).sum(1) < 0).sum())
+            flipped_area = 100 * res["area"][(nm * field).sum(1) < 0].sum() / res["area"].sum()
             if "--flips" in sys.argv:
                 triv = vtk_to_numpy(surface.GetCellData().GetArray("Normals")).astype(float)
                 fl = (nm * field).sum(1) < 0
                 print("   flipped faces: trivial . field =", np.round((triv[fl] * field[fl]).sum(1), 2)[:20],
                       " faces with trivial . field <= 0:", int(((triv * field).sum(1) <= 0).sum()), "of", len(field))
             base, _, _ = measure(surface, f, centre, sharp)
-            print("%-10s %3d %.1f | %.3f / %.3f / %s | %.2f / %.2f | %+.2f | %d | %d | %.2f   (digital: %.3f / %.3f, vol %+.2f)" % (
+            print("%-10s %3d %.1f | %.3f / %.3f / %s | %.2f / %.2f | %+.2f | %d (%.2f %% of area) | %d | %.2f   (digital: %.3f / %.3f, vol %+.2f)" % (
                 name, n, noise, res["mean"], res["p99"],
                 "%.3f" % res["edge"] if "edge" in res else "-", res["ang"], res["angp95"],
-                100 * (res["volume"] / vol - 1), flipped, m.GetNumberOfBoundCoordinates(), dt,
+                100 * (res["volume"] / vol - 1), flipped, flipped_area, m.GetNumberOfBoundCoordinates(), dt,
                 base["mean"], base["p99"], 100 * (base["volume"] / vol - 1)))
             if "--vtk" in sys.argv:
                 img = vtkImageData()

@@ -82,13 +82,27 @@ bool FindSurfaceFrame(std::int64_t numberOfPoints, const double* points,
     error = "the polygons' sides do not span three directions: not the surface of a set of voxels";
     return false;
   }
+  // Canonical: each axis's largest component positive, the axes in the
+  // order of those components, and a right-handed frame (so that the
+  // polygons keep their orientation in grid coordinates).
+  int dominant[3];
   for (int c = 0; c < 3; ++c)
   {
     Eigen::Index k;
     axes.col(c).cwiseAbs().maxCoeff(&k);
+    dominant[c] = static_cast<int>(k);
     if (axes(k, c) < 0)
       axes.col(c) = -axes.col(c);
   }
+  {
+    int order[3] = { 0, 1, 2 };
+    std::sort(order, order + 3, [&](int a, int b) { return dominant[a] < dominant[b]; });
+    const Eigen::Matrix3d sorted = (Eigen::Matrix3d() << axes.col(order[0]), axes.col(order[1]),
+      axes.col(order[2])).finished();
+    axes = sorted;
+  }
+  if (axes.determinant() < 0)
+    axes.col(2) = -axes.col(2);
   const Eigen::Matrix3d inverse = axes.inverse();
   for (std::int64_t f = 0; f < nf; ++f)
   {
