@@ -73,6 +73,7 @@ def shapes(n):
     return {
         "cube": (box([18 * s] * 3, R1), True),
         "octahedron": (octahedron(26 * s, R1), True),
+        "octahedron0": (octahedron(26.88 * s, np.eye(3)), True),
         "cubesphere": (intersect(box([18 * s] * 3, R1), sphere(24 * s)), True),
         "torus": (torus(19.2 * s, 10.24 * s), False),
         "sphere": (sphere(22 * s), False),

@@ -9,6 +9,7 @@
 #include "vtkAmbrosioTortorelliFilter.h"
 #include "vtkDigitalIslandFilter.h"
 #include "vtkSharpFeaturesFilter.h"
+#include "vtkPiecewiseSmoothMeshFilter.h"
 #include "vtkDigitalSurfaceFilter.h"
 #include "vtkIINormalEstimator.h"
 #include "vtkSplitByLabelFilter.h"
@@ -235,6 +236,41 @@ vtkSmartPointer<vtkPolyData> InconsistentWinding()
     g->InsertNextTuple3(0.1 * c, 0, 1);
   mesh->GetCellData()->SetNormals(g);
   return mesh;
+}
+
+// vtkPiecewiseSmoothMeshFilter on the sharp stage's output of the small cube
+// (or on what `edit` makes of it).
+Outcome Mesh(const std::function<void(vtkPolyData*)>& edit,
+  const std::function<void(vtkPiecewiseSmoothMeshFilter*)>& set = {})
+{
+  auto cube = dgtest::MakeRotatedCube(Eigen::Vector3d(8.1, 7.9, 8.2), 4.5, 20, 30, 10);
+  auto image = dgtest::Digitize(*cube, 17);
+  vtkNew<vtkDigitalSurfaceFilter> surface;
+  surface->SetInputData(image);
+  vtkNew<vtkIINormalEstimator> ii;
+  ii->SetInputConnection(surface->GetOutputPort());
+  ii->SetSourceData(image);
+  ii->SetRadius(3);
+  vtkNew<vtkAmbrosioTortorelliFilter> at;
+  at->SetMaximumIterations(2);
+  at->SetInputConnection(ii->GetOutputPort());
+  vtkNew<vtkSharpFeaturesFilter> sharp;
+  sharp->SetInputConnection(at->GetOutputPort());
+  sharp->Update();
+  auto input = vtkSmartPointer<vtkPolyData>::New();
+  input->DeepCopy(sharp->GetOutput(0));
+  if (edit)
+    edit(input);
+  vtkNew<vtkPiecewiseSmoothMeshFilter> f;
+  if (set)
+    set(f);
+  f->SetInputData(input);
+  Outcome o = Run(f);
+  o.Cells += f->GetOutput(1)->GetNumberOfCells(); // an error must empty both ports
+  if (o.Errors == 0)
+    o.Cells = f->GetOutput(0)->GetNumberOfPolys();
+  o.ExpectedCells = input->GetNumberOfPolys();
+  return o;
 }
 
 const Row Rows[] = {
@@ -658,6 +694,73 @@ const Row Rows[] = {
     "ReferenceWeight",
     [] { return Sharp({}, [](vtkSharpFeaturesFilter* f) { f->SetReferenceWeight(0); }); } },
   { "SharpGood", Expect::Result, "", [] { return Sharp({}); } },
+  // vtkPiecewiseSmoothMeshFilter
+  { "MeshNoPolygons",
+    Expect::Error,
+    "no polygons",
+    [] { return Mesh([](vtkPolyData* pd) { pd->SetPolys(vtkNew<vtkCellArray>()); }); } },
+  { "MeshMissingNormals",
+    Expect::Error,
+    "SharpNormals",
+    [] { return Mesh([](vtkPolyData* pd) { pd->GetCellData()->RemoveArray("SharpNormals"); }); } },
+  { "MeshNonUnitNormals",
+    Expect::Error,
+    "unit vectors",
+    []
+    {
+      return Mesh([](vtkPolyData* pd)
+        { pd->GetCellData()->GetArray("SharpNormals")->SetComponent(5, 0, 3.0); });
+    } },
+  { "MeshNaNNormal",
+    Expect::Error,
+    "unit vectors",
+    []
+    {
+      return Mesh([](vtkPolyData* pd)
+        { pd->GetCellData()->GetArray("SharpNormals")->SetComponent(2, 1, std::nan("")); });
+    } },
+  { "MeshNotVoxelFaces",
+    Expect::Error,
+    "not a digital surface",
+    []
+    {
+      // One corner moved off the grid: the quads are no longer voxel faces.
+      return Mesh([](vtkPolyData* pd)
+        {
+          double p[3];
+          pd->GetPoint(7, p);
+          p[0] += 0.3;
+          pd->GetPoints()->SetPoint(7, p);
+        });
+    } },
+  { "MeshRegionsWrongShape",
+    Expect::Error,
+    "one component",
+    []
+    {
+      return Mesh([](vtkPolyData* pd)
+        {
+          vtkNew<vtkDoubleArray> r;
+          r->SetName("FeatureRegion");
+          r->SetNumberOfComponents(2);
+          r->SetNumberOfTuples(pd->GetNumberOfCells());
+          r->Fill(0);
+          pd->GetCellData()->AddArray(r);
+        });
+    } },
+  { "MeshDataWeightZero",
+    Expect::Error,
+    "DataWeight",
+    [] { return Mesh({}, [](vtkPiecewiseSmoothMeshFilter* f) { f->SetDataWeight(0); }); } },
+  { "MeshCreaseWeightNegative",
+    Expect::Error,
+    "CreaseWeight",
+    [] { return Mesh({}, [](vtkPiecewiseSmoothMeshFilter* f) { f->SetCreaseWeight(-1); }); } },
+  { "MeshNoIterations",
+    Expect::Error,
+    "Iterations",
+    [] { return Mesh({}, [](vtkPiecewiseSmoothMeshFilter* f) { f->SetNumberOfIterations(0); }); } },
+  { "MeshGood", Expect::Result, "", [] { return Mesh({}); } },
 };
 
 DG_BAD_INPUT_MATRIX(Rows);
