@@ -138,8 +138,8 @@ std::string MeshParameters::Check() const
     s << "CreaseWeight must be non-negative and finite (got " << this->CreaseWeight << "). ";
   if (!(this->CreaseMinimumAngle >= 0 && this->CreaseMinimumAngle < 90))
     s << "CreaseMinimumAngle must lie in [0, 90) degrees (got " << this->CreaseMinimumAngle << "). ";
-  if (!(this->BoxHalfWidth > 0 && this->BoxHalfWidth <= 0.5))
-    s << "BoxHalfWidth must lie in (0, 0.5] voxel (got " << this->BoxHalfWidth << "). ";
+  if (!(this->BoxHalfWidth > 0 && this->BoxHalfWidth < 0.5))
+    s << "BoxHalfWidth must lie in (0, 0.5) voxel (got " << this->BoxHalfWidth << "). ";
   if (!(this->Tolerance > 0 && this->Tolerance < 1))
     s << "Tolerance must lie in (0, 1) (got " << this->Tolerance << "). ";
   if (!(this->Penalty > 0) || !std::isfinite(this->Penalty))
@@ -436,68 +436,88 @@ std::vector<unsigned char> QuadDiagonals(const double* points,
   return diagonal;
 }
 
-void SplitPointsByRegion(std::int64_t numberOfPoints, const std::vector<std::int64_t>& offsets,
+void SplitPointsAtCreases(std::int64_t numberOfPoints, const std::vector<std::int64_t>& offsets,
   std::vector<std::int64_t>& connectivity, const int* faceRegion, std::vector<std::int64_t>& copyOf)
 {
   const std::int64_t nf = offsets.empty() ? 0 : static_cast<std::int64_t>(offsets.size()) - 1;
-  copyOf.clear();
-  // The points with faces in two or more regions, and their regions.
-  constexpr int none = std::numeric_limits<int>::min();
-  std::vector<int> first(numberOfPoints, none);
-  std::vector<char> shared(numberOfPoints, 0);
-  for (std::int64_t f = 0; faceRegion && f < nf; ++f)
+  const std::int64_t nc = static_cast<std::int64_t>(connectivity.size());
+  // Corners (a polygon's use of a point) of one fan: joined across every
+  // edge with exactly two faces of the same region.
+  std::vector<std::int64_t> parent(nc);
+  for (std::int64_t i = 0; i < nc; ++i)
+    parent[i] = i;
+  auto find = [&](std::int64_t i)
   {
-    for (std::int64_t i = offsets[f]; i < offsets[f + 1]; ++i)
+    while (parent[i] != i)
+      i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  struct Side
+  {
+    std::int64_t Low, High, CornerLow, CornerHigh, Face;
+    bool operator<(const Side& o) const { return Low != o.Low ? Low < o.Low : High < o.High; }
+  };
+  std::vector<Side> sides;
+  sides.reserve(nc);
+  for (std::int64_t f = 0; f < nf; ++f)
+  {
+    const std::int64_t m = offsets[f + 1] - offsets[f];
+    for (std::int64_t i = 0; i < m; ++i)
     {
-      const std::int64_t v = connectivity[i];
-      if (first[v] == none)
-        first[v] = faceRegion[f];
-      else if (first[v] != faceRegion[f])
-        shared[v] = 1;
+      const std::int64_t ca = offsets[f] + i, cb = offsets[f] + (i + 1) % m;
+      const std::int64_t a = connectivity[ca], b = connectivity[cb];
+      if (a == b)
+        continue;
+      sides.push_back(a < b ? Side{ a, b, ca, cb, f } : Side{ b, a, cb, ca, f });
     }
   }
-  std::vector<std::pair<std::int64_t, int>> pointRegions;
-  for (std::int64_t f = 0; faceRegion && f < nf; ++f)
-    for (std::int64_t i = offsets[f]; i < offsets[f + 1]; ++i)
-      if (shared[connectivity[i]])
-        pointRegions.emplace_back(connectivity[i], faceRegion[f]);
-  std::sort(pointRegions.begin(), pointRegions.end());
-  pointRegions.erase(std::unique(pointRegions.begin(), pointRegions.end()), pointRegions.end());
-  // Copies in point order, a shared point's by region.
-  std::vector<std::int64_t> start(numberOfPoints);
-  copyOf.reserve(numberOfPoints + pointRegions.size());
-  std::size_t j = 0;
+  std::sort(sides.begin(), sides.end());
+  for (std::size_t i = 0; i < sides.size();)
+  {
+    std::size_t j = i + 1;
+    while (j < sides.size() && sides[j].Low == sides[i].Low && sides[j].High == sides[i].High)
+      ++j;
+    const bool smooth =
+      j - i == 2 && (!faceRegion || faceRegion[sides[i].Face] == faceRegion[sides[i + 1].Face]);
+    if (smooth)
+    {
+      parent[find(sides[i].CornerLow)] = find(sides[i + 1].CornerLow);
+      parent[find(sides[i].CornerHigh)] = find(sides[i + 1].CornerHigh);
+    }
+    i = j;
+  }
+  // One copy per fan, in point order; points no polygon uses keep one.
+  std::vector<std::pair<std::int64_t, std::int64_t>> fans; // (point, root)
+  fans.reserve(nc);
+  for (std::int64_t i = 0; i < nc; ++i)
+    fans.emplace_back(connectivity[i], find(i));
+  std::sort(fans.begin(), fans.end());
+  fans.erase(std::unique(fans.begin(), fans.end()), fans.end());
+  copyOf.clear();
+  copyOf.reserve(fans.size() + 16);
+  std::size_t k = 0;
   for (std::int64_t v = 0; v < numberOfPoints; ++v)
   {
-    start[v] = static_cast<std::int64_t>(copyOf.size());
-    if (!shared[v])
+    if (k == fans.size() || fans[k].first != v)
     {
       copyOf.push_back(v);
       continue;
     }
-    for (; j < pointRegions.size() && pointRegions[j].first == v; ++j)
+    for (; k < fans.size() && fans[k].first == v; ++k)
       copyOf.push_back(v);
   }
-  for (std::int64_t f = 0; faceRegion && f < nf; ++f)
+  // Each corner to its fan's copy: the copies of a point are consecutive,
+  // in the order of their roots.
+  std::vector<std::int64_t> firstCopy(numberOfPoints, -1);
+  for (std::int64_t c = static_cast<std::int64_t>(copyOf.size()) - 1; c >= 0; --c)
+    firstCopy[copyOf[c]] = c;
+  for (std::int64_t i = 0; i < nc; ++i)
   {
-    for (std::int64_t i = offsets[f]; i < offsets[f + 1]; ++i)
-    {
-      const std::int64_t v = connectivity[i];
-      if (!shared[v])
-      {
-        connectivity[i] = start[v];
-        continue;
-      }
-      const auto it = std::lower_bound(pointRegions.begin(), pointRegions.end(),
-        std::make_pair(v, faceRegion[f]));
-      const auto begin = std::lower_bound(pointRegions.begin(), pointRegions.end(),
-        std::make_pair(v, std::numeric_limits<int>::min()));
-      connectivity[i] = start[v] + (it - begin);
-    }
+    const std::int64_t v = connectivity[i];
+    const auto begin = std::lower_bound(fans.begin(), fans.end(), std::make_pair(v, std::int64_t(0)));
+    const auto it = std::lower_bound(begin, fans.end(), std::make_pair(v, find(i)));
+    connectivity[i] = firstCopy[v] + (it - begin);
   }
-  if (!faceRegion)
-    for (std::int64_t i = 0; i < static_cast<std::int64_t>(connectivity.size()); ++i)
-      connectivity[i] = start[connectivity[i]];
 }
 
 } // namespace dg

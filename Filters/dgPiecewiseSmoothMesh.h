@@ -18,7 +18,7 @@
 // for the two faces across it, m_v the mean normal at the vertex): faces
 // orthogonal to their normals, creases straight, each vertex held along
 // its normal (alpha_n) more than across it (alpha_t), under the bound
-// |d_v|_inf <= 1/2 (its voxel corner's cell).
+// |d_v|_inf <= h < 1/2 (within its voxel corner's cell).
 //
 // The normal parts couple x, y and z. Each iteration therefore solves a
 // separable surrogate with the same gradient at the current positions:
@@ -82,8 +82,11 @@ struct MeshParameters
   // A crease edge whose two faces' normals make less than this angle
   // (degrees) has no direction to keep: it gets no crease term.
   double CreaseMinimumAngle = 5.0;
-  // The bound on each coordinate of a displacement (grid units).
-  double BoxHalfWidth = 0.5;
+  // The bound on each coordinate of a displacement (grid units). Below
+  // 1/2, two faces that share no corner cannot meet: their corners' cells
+  // are apart by 1 - 2 h along some axis (docs/mesh.md). At 1/2 the two
+  // sides of a sheet one voxel thin can meet in its middle.
+  double BoxHalfWidth = 0.49;
   // Conjugate gradients' relative residual in the last iteration.
   double Tolerance = 1e-5;
   // The same for the iterations before the last.
@@ -142,11 +145,13 @@ std::vector<unsigned char> QuadDiagonals(const double* points,
   const std::vector<std::int64_t>& offsets, const std::vector<std::int64_t>& connectivity,
   const double* faceNormals);
 
-/// One copy of each point per feature region of the faces around it (a
-/// point inside one region keeps one copy): `copyOf` gets the input point
-/// of each output point, `connectivity` is rewritten onto the copies.
-/// Copies are numbered in point order, then by region.
-void SplitPointsByRegion(std::int64_t numberOfPoints, const std::vector<std::int64_t>& offsets,
+/// One copy of each point per fan of faces around it, fans being separated
+/// by the creases (edges whose two faces lie in different regions) and by
+/// edges with other than two faces: `copyOf` gets the input point of each
+/// output point, `connectivity` is rewritten onto the copies. A point inside
+/// one region keeps one copy; copies are numbered in point order. Without
+/// regions only the non-manifold edges separate fans.
+void SplitPointsAtCreases(std::int64_t numberOfPoints, const std::vector<std::int64_t>& offsets,
   std::vector<std::int64_t>& connectivity, const int* faceRegion, std::vector<std::int64_t>& copyOf);
 
 } // namespace dg

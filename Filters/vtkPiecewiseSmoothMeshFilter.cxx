@@ -329,10 +329,16 @@ int vtkPiecewiseSmoothMeshFilter::RequestData(
   }
   this->NumberOfCreaseEdges = static_cast<vtkIdType>(res.Creases.size() / 4);
 
-  // Port 0: split the crease points per region, then the faces.
+  // Port 0: the crease points split per side, then the faces.
   std::vector<std::int64_t> outConn = conn, copyOf;
-  dg::SplitPointsByRegion(nPoints, offsets, outConn,
-    this->SplitFeaturePoints && !region.empty() ? region.data() : nullptr, copyOf);
+  if (this->SplitFeaturePoints)
+    dg::SplitPointsAtCreases(nPoints, offsets, outConn, region.empty() ? nullptr : region.data(), copyOf);
+  else
+  {
+    copyOf.resize(nPoints);
+    for (vtkIdType p = 0; p < nPoints; ++p)
+      copyOf[p] = p;
+  }
   const vtkIdType nOut = static_cast<vtkIdType>(copyOf.size());
   vtkNew<vtkDoubleArray> outPointArray;
   outPointArray->SetNumberOfComponents(3);

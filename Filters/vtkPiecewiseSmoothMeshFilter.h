@@ -34,9 +34,9 @@
  * triangles of a quad) and point data; point data "MeshDisplacement" (the
  * world vector each vertex moved) and "Normals" (active): with
  * SplitFeaturePoints (default on), each vertex on a crease is repeated once
- * per region around it and takes that region's normal (the area-weighted
- * mean of the field over its faces there), so that smooth shading shows
- * crisp edges; point data "GlobalIds", when present, keeps the original
+ * per side around it and takes that side's normal (the area-weighted mean
+ * of the field over its faces there), so that smooth shading shows crisp
+ * edges; point data "GlobalIds", when present, keeps the original
  * point's id so the copies can be merged again.
  * Output port 1: the creases, each edge between two regions once, as lines
  * on the moved positions, with cell data "FeatureAngle" (degrees between
@@ -106,8 +106,10 @@ public:
 
   ///@{
   /**
-   * Repeat the vertices of the creases once per region, each with its
-   * region's normal (default on). Off: one point per vertex (a watertight
+   * Repeat the vertices of the creases once per side (per fan of faces
+   * around the vertex between two creases), each with its side's normal
+   * (default on); where two sheets of voxels touch along an edge, each
+   * sheet gets its own copy too. Off: one point per vertex (a watertight
    * mesh for tools that need shared points), normals averaged over all
    * faces around it.
    */

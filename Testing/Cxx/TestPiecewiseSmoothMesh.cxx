@@ -266,8 +266,8 @@ TEST_P(MeshGroundTruth, DistanceNormalsVolumeBound)
     f.NormalError, 100 * (f.Volume / f.TrueVolume - 1), static_cast<long long>(f.Flipped),
     100 * f.FlippedArea, static_cast<long long>(run.Mesh->GetNumberOfBoundCoordinates()));
 
-  // Invariants: every vertex within its voxel corner's cell (unit spacing:
-  // world = grid), the same cells on the same points.
+  // Invariants: every vertex within 0.49 voxel of its corner along each
+  // axis (unit spacing: world = grid), the same cells on the same points.
   vtkDataArray* shift = mesh->GetPointData()->GetArray("MeshDisplacement");
   ASSERT_NE(shift, nullptr);
   ASSERT_EQ(mesh->GetNumberOfPoints(), run.Surface->GetNumberOfPoints());
@@ -275,7 +275,7 @@ TEST_P(MeshGroundTruth, DistanceNormalsVolumeBound)
   for (vtkIdType i = 0; i < shift->GetNumberOfTuples(); ++i)
     for (int a = 0; a < 3; ++a)
       largest = std::max(largest, std::abs(shift->GetComponent(i, a)));
-  EXPECT_LE(largest, 0.5 + 1e-9);
+  EXPECT_LE(largest, 0.49 + 1e-9);
   for (vtkIdType i = 0; i < mesh->GetNumberOfPoints(); i += 97)
     EXPECT_NEAR((Point(mesh, i) - Point(run.Surface, i)).norm(),
       V3(shift->GetComponent(i, 0), shift->GetComponent(i, 1), shift->GetComponent(i, 2)).norm(),
@@ -295,33 +295,37 @@ TEST_P(MeshGroundTruth, DistanceNormalsVolumeBound)
   if (c.K == 0)
   {
     // The issue's targets: mean <= 0.05, p99 <= 0.2, <= 0.1 near edges,
-    // normals <= 3 degrees, volume within 0.2 %. cube-sphere's strips and
-    // the torus's top (issue 39: the normals there are 3-15 degrees off,
-    // and the mesh follows them) miss the p99; cube-sphere misses the mean,
-    // the edges and the normals; the volume is within 0.35 % on the
-    // polyhedra at 64^3 and 0.6 % on the torus (docs/mesh.md).
+    // normals <= 3 degrees, volume within 0.2 %. Measured (64^3): cube
+    // 0.045 / 0.161 / 0.061, 1.97 deg, -0.17 %; octahedron 0.033 / 0.125 /
+    // 0.042, 1.85 deg, -0.03 %; torus 0.035 / 0.141, 1.71 deg, -0.06 %;
+    // sphere 0.033 / 0.130, 1.67 deg; fillet6 0.051 / 0.184, 2.33 deg;
+    // 128^3 cube 0.043 / 0.131, 1.73 deg, -0.05 %. cube-sphere misses the
+    // mean, the p99 and the normals (0.065 / 0.330, 3.55 deg): its strips
+    // are 5 voxels wide and the sharp stage's normals there are 7-15
+    // degrees off within 2 voxels of the circles (docs/mesh.md); fillet6's
+    // mean is 0.051.
     const bool strips = c.Shape == "cubesphere";
-    EXPECT_LE(f.Mean, strips ? 0.08 : 0.056);
-    EXPECT_LE(f.P99, strips || c.Shape == "torus" ? 0.5 : 0.2);
+    EXPECT_LE(f.Mean, strips ? 0.075 : c.Shape == "fillet6" ? 0.06 : 0.05);
+    EXPECT_LE(f.P99, strips ? 0.38 : 0.2);
     if (sharp)
-      EXPECT_LE(f.NearEdges, strips ? 0.14 : 0.1);
-    EXPECT_LE(f.NormalError, strips ? 5.5 : 3.0);
-    EXPECT_LE(std::abs(f.Volume / f.TrueVolume - 1), c.Shape == "torus" ? 0.007 : 0.004);
+      EXPECT_LE(f.NearEdges, 0.1);
+    EXPECT_LE(f.NormalError, strips ? 4.0 : 3.0);
+    EXPECT_LE(std::abs(f.Volume / f.TrueVolume - 1), strips ? 0.0025 : 0.002);
     EXPECT_LE(f.FlippedArea, 0.002);
     // Far better than the staircase in every figure.
-    EXPECT_LE(f.Mean, 0.25 * digital.Mean);
+    EXPECT_LE(f.Mean, 0.2 * digital.Mean);
   }
   else
   {
     // k = 0.3: the issue asks mean <= 0.25 and no flipped face. Neither is
     // reachable with every vertex in its cell: the cells of 38-46 % of the
-    // digital surface's vertices miss the true surface (mean distance from
-    // cell to surface 0.18-0.24), and about a fifth of the noisy surface's
-    // faces face against the field, which a move of half a voxel cannot
-    // turn (docs/mesh.md). Measured: mean 0.33-0.39, flipped 18-20 % of the
-    // area; held here with a margin and against the staircase.
-    EXPECT_LE(f.Mean, 0.42);
-    EXPECT_LE(f.Mean, 0.56 * digital.Mean);
+    // digital surface's vertices miss the true surface (their mean
+    // distance from cell to surface alone is 0.18-0.24), and a fifth of the
+    // noisy surface's faces face against the field, which a move of less
+    // than half a voxel cannot turn (docs/mesh.md). Measured: mean
+    // 0.35-0.40 (half the staircase's), flipped 19-20 % of the area.
+    EXPECT_LE(f.Mean, 0.43);
+    EXPECT_LE(f.Mean, 0.58 * digital.Mean);
     EXPECT_LE(f.FlippedArea, 0.23);
   }
 }
@@ -355,23 +359,12 @@ TEST(PiecewiseSmoothMesh, DihedralAngles)
     auto shape = Shape(name, n);
     MeshRun run(*shape, n);
     vtkPolyData* mesh = run.Output;
-    vtkDataArray* region = mesh->GetCellData()->GetArray("FeatureRegion");
-    ASSERT_NE(region, nullptr);
-    std::map<int, V3> sum;
-    std::map<int, V3> truth;
+    // The sides: the faces whose true normal is one face's of the
+    // polyhedron (the normal at the nearest surface point), more than a
+    // voxel from any edge.
+    std::map<std::array<long, 3>, V3> sum, truth;
     for (vtkIdType c = 0; c < mesh->GetNumberOfCells(); ++c)
     {
-      const int r = static_cast<int>(region->GetComponent(c, 0));
-      static std::map<int, int> counts;
-      ++counts[r];
-      if (c + 1 == mesh->GetNumberOfCells())
-      {
-        for (auto& x : counts)
-          std::printf("region %d: %d faces\n", x.first, x.second);
-        counts.clear();
-      }
-      if (r < 0)
-        continue;
       const V3 a = VectorArea(mesh, c);
       vtkIdType m = 0;
       const vtkIdType* ids = nullptr;
@@ -379,14 +372,14 @@ TEST(PiecewiseSmoothMesh, DihedralAngles)
       V3 centre = V3::Zero();
       for (vtkIdType i = 0; i < m; ++i)
         centre += Point(mesh, ids[i]) / static_cast<double>(m);
-      sum[r] += a;
-      truth[r] += a.norm() * shape->Normal(centre);
+      if (shape->DistanceToSharpEdge(centre, 2.0) <= 1.0)
+        continue;
+      const V3 t = shape->Normal(centre);
+      const std::array<long, 3> key = { std::lround(100 * t[0]), std::lround(100 * t[1]),
+        std::lround(100 * t[2]) };
+      sum[key] += a;
+      truth[key] += a.norm() * t;
     }
-    for (const auto& r : sum)
-      std::printf("  region %d: area %.1f, true normal (%.3f %.3f %.3f), |mean| %.4f\n", r.first,
-        r.second.norm(), truth[r.first].normalized()[0], truth[r.first].normalized()[1],
-        truth[r.first].normalized()[2], truth[r.first].norm() / std::max(1e-300, [&]() { double w = 0; (void)w; return truth[r.first].norm(); }()));
-    // The regions of the faces: one per face of the polyhedron.
     ASSERT_EQ(sum.size(), std::string(name) == "cube" ? 6u : 8u) << name;
     // Adjacent regions: those whose true normals are not opposite.
     int pairs = 0;
@@ -473,7 +466,10 @@ int SelfIntersections(vtkPolyData* triangles)
             double x1[3], x2[3], ids[2];
             if (vtkIntersectionPolyDataFilter::TriangleTriangleIntersection(
                   p[0], p[1], p[2], q[0], q[1], q[2], coplanar, x1, x2, ids, 1e-9))
+            {
               ++crossings;
+              std::printf("crossing: t%lld (%lld %lld %lld) u%lld (%lld %lld %lld) coplanar %d at (%.2f %.2f %.2f)\n", (long long)t, (long long)tri[t][0], (long long)tri[t][1], (long long)tri[t][2], (long long)u, (long long)tri[u][0], (long long)tri[u][1], (long long)tri[u][2], coplanar, x1[0], x1[1], x1[2]);
+            }
           }
         }
   }
