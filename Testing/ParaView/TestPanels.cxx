@@ -133,6 +133,7 @@ int main(int argc, char** argv)
       { "Band Sides", "Output Field" }, "Minimum Feature Angle", "Quadric Merge Factor",
       "feature line" },
     { "filters", "CorrectedCurvature", {}, {}, "Radius Units", "Regions", "each side of a crease" },
+    { "filters", "PiecewiseSmoothMesh", {}, {}, "Normals", "Data Weight", "voxel corner" },
     { "filters", "DigitalSurface", {}, {}, "Selection Mode", "", "" },
     { "filters", "IINormalEstimator", {}, {}, "Radius", "", "" },
     { "filters", "VCMNormalEstimator", {}, {}, "", "", "" },

@@ -343,6 +343,31 @@ check(curv_creases.GetNumberOfLines() == vcurv.GetOutput(1).GetNumberOfLines()
       and curv_creases.GetCellData().GetArray("CreaseAngle") is not None,
       "creases with CreaseAngle: %d" % curv_creases.GetNumberOfLines())
 Delete(curv)
+
+# Piecewise Smooth Mesh after Sharp Features, its defaults, against the class.
+check("PiecewiseSmoothMesh" in globals(), "Piecewise Smooth Mesh available")
+pmesh = PiecewiseSmoothMesh(Input=sharp)
+check(pmesh.NumberOfIterations == 16 and pmesh.SplitFeaturePoints == 1 and pmesh.OutputTriangles == 0,
+      "Piecewise Smooth Mesh defaults: 16 iterations, split points, quads")
+pmesh.UpdatePipeline()
+mesh_surface = servermanager.Fetch(pmesh, idx=0)
+mesh_creases = servermanager.Fetch(pmesh, idx=1)
+from digitalgeometry import vtkPiecewiseSmoothMeshFilter  # noqa: E402
+
+vmesh = vtkPiecewiseSmoothMeshFilter()
+vmesh.SetInputConnection(vsharp.GetOutputPort())
+vmesh.Update()
+ref_m = vmesh.GetOutput(0)
+check(mesh_surface.GetNumberOfPoints() == ref_m.GetNumberOfPoints()
+      and mesh_surface.GetNumberOfCells() == ref_m.GetNumberOfCells(), "mesh: the C++ filter's points and faces")
+if mesh_surface.GetNumberOfPoints() == ref_m.GetNumberOfPoints():
+    diff = max(abs(mesh_surface.GetPoint(i)[a] - ref_m.GetPoint(i)[a])
+               for i in range(0, ref_m.GetNumberOfPoints(), 7) for a in range(3))
+    check(diff == 0.0, "plugin mesh points equal the C++ filter's (max diff %g)" % diff)
+check(mesh_creases.GetNumberOfLines() == vmesh.GetOutput(1).GetNumberOfLines() > 0
+      and mesh_creases.GetCellData().GetArray("FeatureAngle") is not None,
+      "mesh creases with FeatureAngle: %d" % mesh_creases.GetNumberOfLines())
+Delete(pmesh)
 Delete(sharp)
 
 # RHT normals through the plugin (paper's defaults), against the class.
