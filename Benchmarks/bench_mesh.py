@@ -128,24 +128,23 @@ def write_vti(inside, path):
     w.Write()
 
 
-def quad_normals(pts, polys):
-    # Newell normals of each polygon (all quads here)
-    a, b, c, d = (pts[polys[:, i]] for i in range(4))
-    n = np.cross(c - a, d - b)
-    return n / np.linalg.norm(n, axis=1)[:, None]
-
-
 def measure(mesh, f, centre, sharp):
+    """Distances of the vertices to the true surface, and the faces' own
+    normals (each polygon triangulated, area-weighted) against the true
+    ones at their centres."""
     pts = vtk_to_numpy(mesh.GetPoints().GetData()).astype(float) - centre
     d = np.abs(f(pts)) / np.linalg.norm(gradient(f, pts), axis=1)
-    polys = vtk_to_numpy(mesh.GetPolys().GetConnectivityArray()).reshape(-1, 4)
-    fc = pts[polys].mean(1)
-    g = gradient(f, fc)
-    g /= np.linalg.norm(g, axis=1)[:, None]
-    a, b, c, dd = (pts[polys[:, i]] for i in range(4))
-    vec = np.cross(c - a, dd - b) / 2
+    t = vtkTriangleFilter()
+    t.SetInputData(mesh)
+    t.Update()
+    tri = t.GetOutput()
+    ids = vtk_to_numpy(tri.GetPolys().GetConnectivityArray()).reshape(-1, 3)
+    a, b, c = (pts[ids[:, i]] for i in range(3))
+    vec = np.cross(b - a, c - a) / 2
     area = np.linalg.norm(vec, axis=1)
     nm = vec / np.maximum(area, 1e-300)[:, None]
+    g = gradient(f, (a + b + c) / 3)
+    g /= np.linalg.norm(g, axis=1)[:, None]
     ang = np.degrees(np.arccos(np.clip((nm * g).sum(1), -1, 1)))
     out = {"area": area, "mean": d.mean(), "p99": np.percentile(d, 99), "ang": (ang * area).sum() / area.sum(),
            "angp95": np.percentile(ang, 95)}
@@ -155,19 +154,60 @@ def measure(mesh, f, centre, sharp):
         gg = gradient(f, pts)
         gg /= np.linalg.norm(gg, axis=1)[:, None]
         near = np.zeros(len(pts), bool)
-        for a in range(3):
-            for s in (-2, 2):
-                h = gradient(f, pts + s * np.eye(3)[a])
+        for ax in range(3):
+            for sgn in (-2, 2):
+                h = gradient(f, pts + sgn * np.eye(3)[ax])
                 h /= np.linalg.norm(h, axis=1)[:, None]
                 near |= (h * gg).sum(1) < np.cos(np.radians(20))
         out["edge"] = d[near].mean() if near.any() else float("nan")
     mp = vtkMassProperties()
-    t = vtkTriangleFilter()
-    t.SetInputData(mesh)
-    mp.SetInputConnection(t.GetOutputPort())
+    mp.SetInputData(tri)
     mp.Update()
     out["volume"] = mp.GetVolume()
-    return out, nm, polys
+    field = tri.GetCellData().GetArray("SharpNormals")
+    if field is not None:
+        fl = (nm * vtk_to_numpy(field)).sum(1) < 0
+        out["flipped"] = 100 * area[fl].sum() / area.sum()
+    return out
+
+
+def vtk_pipeline(inside, dims=None):
+    """VTK's usual surface of a segmentation, 3D Slicer's defaults:
+    discrete flying edges, windowed sinc (20 iterations, pass band 0.1)."""
+    n = inside.shape[0]
+    img = vtkImageData()
+    img.SetDimensions(*(dims if dims else (n, n, n)))
+    img.GetPointData().SetScalars(numpy_to_vtk(inside.ravel(), deep=1))
+    fe = vtkDiscreteFlyingEdges3D()
+    fe.SetInputData(img)
+    fe.SetValue(0, 1)
+    ws = vtkWindowedSincPolyDataFilter()
+    ws.SetInputConnection(fe.GetOutputPort())
+    ws.SetNumberOfIterations(20)
+    ws.SetPassBand(0.1)
+    ws.NonManifoldSmoothingOn()
+    ws.NormalizeCoordinatesOn()
+    ws.Update()
+    return ws.GetOutput()
+
+
+def noisy_volume(inside, k, seed):
+    """The program's noise and islands stages on a volume (the same voxels
+    its --noise K --seed S run meshes)."""
+    from digitalgeometry import vtkDigitalIslandFilter, vtkDigitalNoiseFilter
+    n = inside.shape[0]
+    img = vtkImageData()
+    img.SetDimensions(n, n, n)
+    img.GetPointData().SetScalars(numpy_to_vtk(inside.ravel(), deep=1))
+    nf = vtkDigitalNoiseFilter()
+    nf.SetInputData(img)
+    nf.SetNoiseLevel(k)
+    nf.SetSeed(seed)
+    isl = vtkDigitalIslandFilter()
+    isl.SetInputConnection(nf.GetOutputPort())
+    isl.SetMinimumSize(8)
+    isl.Update()
+    return vtk_to_numpy(isl.GetOutput().GetPointData().GetScalars()).reshape(inside.shape).astype(np.uint8)
 
 
 def main():
@@ -177,7 +217,7 @@ def main():
     params = [a.split("=") for i, a in enumerate(sys.argv) if i > 0 and sys.argv[i - 1] == "--param"]
     cache = os.environ.get("DG_MESH_CACHE", os.path.join(tempfile.gettempdir(), "dg_mesh_cache"))
     os.makedirs(cache, exist_ok=True)
-    print("shape n k | dist mean / p99 / near edges | face normal mean / p95 deg | volume err % | flipped | bound | s")
+    print("shape n k mesh | vertex distance mean / p99 / near edges (voxels) | face normals (deg, area-weighted) | volume error % | flipped area %")
     for name, (f, sharp) in shapes(n).items():
         if names and name not in names:
             continue
@@ -205,45 +245,23 @@ def main():
             t0 = time.time()
             m.Update()
             dt = time.time() - t0
-            mesh = m.GetOutput()
             vol = true_volume(f, n, centre)
-            res, nm, polys = measure(mesh, f, centre, sharp)
-            field = vtk_to_numpy(mesh.GetCellData().GetArray("SharpNormals"))
-            flipped = int(((nm * field).sum(1) < 0).sum())
-            flipped_area = 100 * res["area"][(nm * field).sum(1) < 0].sum() / res["area"].sum()
-            if "--flips" in sys.argv:
-                triv = vtk_to_numpy(surface.GetCellData().GetArray("Normals")).astype(float)
-                fl = (nm * field).sum(1) < 0
-                print("   flipped faces: trivial . field =", np.round((triv[fl] * field[fl]).sum(1), 2)[:20],
-                      " faces with trivial . field <= 0:", int(((triv * field).sum(1) <= 0).sum()), "of", len(field))
-            base, _, _ = measure(surface, f, centre, sharp)
-            print("%-10s %3d %.1f | %.3f / %.3f / %s | %.2f / %.2f | %+.2f | %d (%.2f %% of area) | %d | %.2f   (digital: %.3f / %.3f, vol %+.2f)" % (
-                name, n, noise, res["mean"], res["p99"],
-                "%.3f" % res["edge"] if "edge" in res else "-", res["ang"], res["angp95"],
-                100 * (res["volume"] / vol - 1), flipped, flipped_area, m.GetNumberOfBoundCoordinates(), dt,
-                base["mean"], base["p99"], 100 * (base["volume"] / vol - 1)))
+            res = measure(m.GetOutput(), f, centre, sharp)
+            base = measure(surface, f, centre, sharp)
+            rows = [("digital surface", base), ("this stage", res)]
             if "--vtk" in sys.argv:
-                img = vtkImageData()
-                inside = volume_of(f, n, centre) if inside is None else inside
-                img.SetDimensions(n, n, n)
-                img.GetPointData().SetScalars(numpy_to_vtk(inside.ravel(), deep=1))
-                fe = vtkDiscreteFlyingEdges3D()
-                fe.SetInputData(img)
-                fe.SetValue(0, 1)
-                ws = vtkWindowedSincPolyDataFilter()
-                ws.SetInputConnection(fe.GetOutputPort())
-                ws.SetNumberOfIterations(20)
-                ws.SetPassBand(0.1)
-                ws.NonManifoldSmoothingOn()
-                ws.NormalizeCoordinatesOn()
-                ws.Update()
-                v = ws.GetOutput()
-                pts = vtk_to_numpy(v.GetPoints().GetData()).astype(float) - centre
-                d = np.abs(f(pts)) / np.linalg.norm(gradient(f, pts), axis=1)
-                mp = vtkMassProperties()
-                mp.SetInputData(v)
-                mp.Update()
-                print("%-10s VTK        | %.3f / %.3f | volume %+.2f %%" % (name, d.mean(), np.percentile(d, 99), 100 * (mp.GetVolume() / vol - 1)))
+                inside = volume_of(f, n, centre)
+                if noise:
+                    inside = noisy_volume(inside, noise, 1)
+                rows.append(("VTK (Slicer)", measure(vtk_pipeline(inside), f, centre, sharp)))
+            for label, r in rows:
+                print("%-10s %3d %.1f %-15s | %.3f / %.3f / %s | %.2f | %+.2f | %s" % (
+                    name, n, noise, label, r["mean"], r["p99"],
+                    "%.3f" % r["edge"] if "edge" in r else "-", r["ang"],
+                    100 * (r["volume"] / vol - 1),
+                    "%.2f" % r["flipped"] if "flipped" in r else "-"))
+            print("%-10s %3d %.1f   time %.3f s, %d coordinates at the bound" % (
+                name, n, noise, dt, m.GetNumberOfBoundCoordinates()))
 
 
 if __name__ == "__main__":
