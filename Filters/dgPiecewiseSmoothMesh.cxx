@@ -3,6 +3,7 @@
 #include "dgATBlocks.h"
 #include "dgATLinearSystems.h"
 #include "dgATOperators.h"
+#include "dgATSolver.h"
 
 #include <Eigen/Dense>
 
@@ -140,8 +141,8 @@ std::string MeshParameters::Check() const
     s << "CreaseMinimumAngle must lie in [0, 90) degrees (got " << this->CreaseMinimumAngle << "). ";
   if (!(this->BoxHalfWidth > 0 && this->BoxHalfWidth < 0.5))
     s << "BoxHalfWidth must lie in (0, 0.5) voxel (got " << this->BoxHalfWidth << "). ";
-  if (!(this->Tolerance > 0 && this->Tolerance < 1))
-    s << "Tolerance must lie in (0, 1) (got " << this->Tolerance << "). ";
+  if (!(this->Tolerance > 0 && this->Tolerance < 1) || !(this->EarlyTolerance > 0 && this->EarlyTolerance < 1))
+    s << "SolverTolerance must lie in (0, 1) (got " << this->EarlyTolerance << "). ";
   if (!(this->Penalty > 0) || !std::isfinite(this->Penalty))
     s << "Penalty must be positive and finite (got " << this->Penalty << "). ";
   if (this->MaximumIterations < 1 || this->Iterations < 1)
@@ -341,13 +342,14 @@ bool RegularizeMesh(const MeshInput& in, const MeshParameters& p, MeshResult& re
       values[k] = inner[k] == a ? diagonal[a] + rho : -weight[entryEdge[k]];
   }
   const ATSystemView m = P.View(values.data());
-  ATParameters sp;
-  sp.Solver = ATLinearSolver::ConjugateGradientIC;
-  sp.CGTolerance = p.EarlyTolerance;
-  sp.CGMaximumIterations = p.MaximumIterations;
-  sp.CGSinglePrecision = false;
-  std::unique_ptr<ATLinearSystem> system = MakeATLinearSystem(sp);
-  if (!system->Analyze(m) || !system->Factorize(m))
+  // With pieces every process takes the same branches: a local failure
+  // fails them all.
+  const ATDistribution* dist = in.Distribution;
+  auto agree = [dist](bool ok) { return dist ? dist->AllOk(ok) : ok; };
+  const std::int64_t owned = dist ? dist->Owned(1) : nv;
+  std::unique_ptr<ATLinearSystem> system =
+    MakeICSystem(p.EarlyTolerance, p.MaximumIterations, dist, 1, false);
+  if (!agree(system->Analyze(m) && system->Factorize(m)))
   {
     error = "the mesh's system could not be factorised";
     return false;
@@ -371,18 +373,18 @@ bool RegularizeMesh(const MeshInput& in, const MeshParameters& p, MeshResult& re
     const std::int64_t it0 = system->Iterations;
     const bool ok = system->Solve(m, ATRhs::Of(rhs), ATColumns(d));
     stats.CGIterations += system->Iterations - it0;
-    if (!ok)
+    if (!agree(ok))
     {
       stats.Converged = !last && stats.Converged;
-      if (!d.allFinite())
+      if (!agree(d.allFinite()))
       {
         error = "the linear solve failed (non-finite result)";
         return false;
       }
     }
     residual = 0;
-    std::int64_t held = 0;
-    for (std::int64_t a = 0; a < nv; ++a)
+    double held = 0;
+    for (std::int64_t a = 0; a < owned; ++a)
     {
       for (int c = 0; c < 3; ++c)
       {
@@ -394,8 +396,18 @@ bool RegularizeMesh(const MeshInput& in, const MeshParameters& p, MeshResult& re
         displacement[3 * a + c] = z;
       }
     }
-    stats.BoundCoordinates = held;
-    if (progress && !progress((pass + 1.0) / p.Iterations))
+    if (dist)
+    {
+      // The ghost rows' displacements from their owners, for the next
+      // targets; the figures over all pieces.
+      dist->UpdateGhosts(1, displacement.data(), 3);
+      dist->SumAll(&held, 1);
+      residual = dist->MaxAll(residual);
+    }
+    stats.BoundCoordinates = static_cast<std::int64_t>(held);
+    // Progress only: an abort on one piece alone would leave the others
+    // waiting.
+    if (progress && !progress((pass + 1.0) / p.Iterations) && !dist)
     {
       error = "aborted";
       return false;

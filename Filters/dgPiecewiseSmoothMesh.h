@@ -43,6 +43,7 @@
 
 namespace dg
 {
+class ATDistribution;
 
 /// The grid behind a digital surface: world = Origin + Axes * grid, with the
 /// columns of Axes (column-major, 3 x 3) the world vectors of one voxel step
@@ -121,6 +122,10 @@ struct MeshInput
   const std::vector<std::int64_t>* Connectivity = nullptr;
   const double* FaceNormals = nullptr; // 3 per face, unit, grid frame
   const int* FaceRegion = nullptr;     // 1 per face, or null: no crease
+  // With pieces: the vertex rows' distribution (dgATHalo: the points are
+  // its rows, owned first, and the polygons every one around an owned
+  // point); the result's owned rows then equal one process's.
+  const ATDistribution* Distribution = nullptr;
 };
 
 struct MeshResult

@@ -45,6 +45,15 @@
  * Parameters are in voxels. Bad input (no polygons, a surface that is not
  * one of voxel faces, a missing, wrongly sized or non-unit normal field,
  * parameters out of range) gives an error and empty outputs.
+ *
+ * Pieces: under a multi-process controller each process moves the
+ * vertices of its own faces (the input's non-ghost cells, matched across
+ * pieces by their cell and point "GlobalIds"): it fetches the faces around
+ * its points from the other pieces, and all vertices are solved as one
+ * distributed system over vtkMultiProcessController (the halo
+ * vtkAmbrosioTortorelliFilter's solve uses). Each process outputs its own
+ * faces and the creases whose end of smaller global id it owns; positions
+ * and normals equal one process's to the solver's tolerance.
  */
 #ifndef vtkPiecewiseSmoothMeshFilter_h
 #define vtkPiecewiseSmoothMeshFilter_h
@@ -97,6 +106,18 @@ public:
 
   ///@{
   /**
+   * Conjugate gradients' relative residual in each iteration's solve (in
+   * (0, 1), default 1e-3; the last iteration solves to a hundredth of it).
+   * The next iteration moves the targets anyway, so each solve need not be
+   * exact; pieces and one process agree to about this tolerance in voxels
+   * (1e-8 gives positions within 1e-6 voxel of one process's).
+   */
+  vtkSetMacro(SolverTolerance, double);
+  vtkGetMacro(SolverTolerance, double);
+  ///@}
+
+  ///@{
+  /**
    * Triangles instead of quads (default off).
    */
   vtkSetMacro(OutputTriangles, bool);
@@ -141,6 +162,7 @@ protected:
   double DataWeight = 0.05;
   double CreaseWeight = 1.0;
   int NumberOfIterations = 16;
+  double SolverTolerance = 1e-3;
   bool OutputTriangles = false;
   bool SplitFeaturePoints = true;
 

@@ -760,6 +760,10 @@ const Row Rows[] = {
     Expect::Error,
     "Iterations",
     [] { return Mesh({}, [](vtkPiecewiseSmoothMeshFilter* f) { f->SetNumberOfIterations(0); }); } },
+  { "MeshSolverToleranceOne",
+    Expect::Error,
+    "SolverTolerance",
+    [] { return Mesh({}, [](vtkPiecewiseSmoothMeshFilter* f) { f->SetSolverTolerance(1); }); } },
   { "MeshGood", Expect::Result, "", [] { return Mesh({}); } },
 };
 

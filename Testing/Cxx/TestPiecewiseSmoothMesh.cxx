@@ -308,7 +308,9 @@ TEST_P(MeshGroundTruth, DistanceNormalsVolumeBound)
     EXPECT_LE(f.Mean, strips ? 0.075 : c.Shape == "fillet6" ? 0.06 : 0.05);
     EXPECT_LE(f.P99, strips ? 0.38 : 0.2);
     if (sharp)
+    {
       EXPECT_LE(f.NearEdges, 0.1);
+    }
     EXPECT_LE(f.NormalError, strips ? 4.0 : 3.0);
     EXPECT_LE(std::abs(f.Volume / f.TrueVolume - 1), strips ? 0.0025 : 0.002);
     EXPECT_LE(f.FlippedArea, 0.002);

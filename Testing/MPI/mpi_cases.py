@@ -423,6 +423,58 @@ def compare_creases(ref_surface, ref_creases, res_surface, res_creases, check, l
     check(worst <= 1e-9, "%s: crease angles equal one process's (max difference %.3g degrees)" % (label, worst))
 
 
+def mesh_points(mesh):
+    """A mesh's moved positions by the contract's point id of the voxel
+    corner each vertex started from (its position minus MeshDisplacement;
+    copies of a point share it), in voxels."""
+    fd = mesh.GetFieldData()
+    origin = ns.vtk_to_numpy(fd.GetArray("ImageOrigin"))
+    spacing = ns.vtk_to_numpy(fd.GetArray("ImageSpacing"))
+    whole = [int(x) for x in ns.vtk_to_numpy(fd.GetArray("ImageExtent"))]
+    nx, ny = whole[1] - whole[0] + 1, whole[3] - whole[2] + 1
+    pts = ns.vtk_to_numpy(mesh.GetPoints().GetData()).astype(float)
+    corner = pts - ns.vtk_to_numpy(mesh.GetPointData().GetArray("MeshDisplacement"))
+    c = np.rint((corner - origin) / spacing + 0.5).astype(np.int64) - np.array(whole[0::2])
+    ids = (c[:, 2] * (ny + 1) + c[:, 1]) * (nx + 1) + c[:, 0]
+    return dict(zip(ids.tolist(), ((pts - origin) / spacing).tolist()))
+
+
+def compare_mesh(ref_mesh, ref_creases, res_mesh, res_creases, check, label, limit):
+    """The Piecewise Smooth Mesh filter (pvbatch pipeline): every vertex at
+    one process's position (within `limit` voxel), the same faces, the same
+    crease edges each once."""
+    rm, tm = read_polydata(ref_mesh), read_polydata(res_mesh)
+    rp, tp = mesh_points(rm), mesh_points(tm)
+    common = set(rp) & set(tp)
+    worst = max((max(abs(a - b) for a, b in zip(rp[i], tp[i])) for i in common), default=np.inf)
+    check(len(common) > 0 and set(rp) == set(tp) and rm.GetNumberOfCells() == tm.GetNumberOfCells(),
+          "%s: the mesh's faces and vertices (%d faces, %d vertices; %d only in one process, %d only here)"
+          % (label, tm.GetNumberOfCells(), len(tp), len(set(rp) - set(tp)), len(set(tp) - set(rp))))
+    check(worst <= limit, "%s: mesh vertices at one process's positions (max difference %.3g voxel, limit %g)"
+          % (label, worst, limit))
+
+    out = []
+    for mesh, path, byid in ((rm, ref_creases, rp), (tm, res_creases, tp)):
+        c = read_polydata(path)
+        fd = mesh.GetFieldData()
+        origin = ns.vtk_to_numpy(fd.GetArray("ImageOrigin"))
+        spacing = ns.vtk_to_numpy(fd.GetArray("ImageSpacing"))
+        # crease points are mesh vertices: matched by position (cells of
+        # different corners are disjoint, so positions are unique)
+        keys = {}
+        for i, p in byid.items():
+            keys[tuple(np.round(p, 6))] = i
+        pts = ns.vtk_to_numpy(c.GetPoints().GetData()).astype(float) if c.GetNumberOfPoints() else np.zeros((0, 3))
+        pid = [keys.get(tuple(np.round((p - origin) / spacing, 6)), -1) for p in pts]
+        lines = ns.vtk_to_numpy(c.GetLines().GetConnectivityArray()).reshape(-1, 2) if c.GetNumberOfLines() else np.zeros((0, 2), int)
+        out.append([tuple(sorted((pid[a], pid[b]))) for a, b in lines])
+    re_, te = out
+    dup = len(te) - len(set(te))
+    check(len(re_) > 0 and -1 not in {x for e in te for x in e} and set(re_) == set(te) and dup == 0,
+          "%s: the same mesh creases (%d; %d only in one process, %d only here, %d listed twice)"
+          % (label, len(set(re_)), len(set(re_) - set(te)), len(set(te) - set(re_)), dup))
+
+
 def files_of(folder):
     out = {}
     for root, _, names in os.walk(folder):

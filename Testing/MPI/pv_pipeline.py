@@ -1,13 +1,14 @@
 """The MPI tests' pvbatch pipeline (run as mpirun -np N pvbatch --symmetric
 pv_pipeline.py PLUGIN INPUT.vti OUTPREFIX SOLVER_TOLERANCE): the plugin's
 filters Digital Surface -> II Normal Estimator -> Ambrosio-Tortorelli ->
-Corrected Curvature (of the II normals, which every process count gives
-bit for bit, so that the curvature's own distribution is what is compared;
-per side of the faces' axis directions, SurfelDirection, so that every edge
-where the staircase turns is a crease and the creases cross the pieces'
-borders everywhere) on every rank's piece, written with ParaView's parallel
-writer as OUTPREFIX_surface.pvtp, OUTPREFIX_features.pvtp and
-OUTPREFIX_creases.pvtp (pieces in folders of those names).
+Corrected Curvature and Piecewise Smooth Mesh (of the II normals, which
+every process count gives bit for bit, so that the stages' own distribution
+is what is compared; per side of the faces' axis directions,
+SurfelDirection, so that every edge where the staircase turns is a crease
+and the creases cross the pieces' borders everywhere) on every rank's
+piece, written with ParaView's parallel writer as OUTPREFIX_surface.pvtp,
+OUTPREFIX_features.pvtp, OUTPREFIX_creases.pvtp, OUTPREFIX_mesh.pvtp and
+OUTPREFIX_meshcreases.pvtp (pieces in folders of those names).
 
 DG_MPI_BAD_RANK=r gives rank r a bad II radius (-1): that rank reports the
 filter's error in one line and exits 1 at once, so that mpirun ends the
@@ -36,6 +37,11 @@ at = AmbrosioTortorelli(Input=ii, Alpha=0.05, Lambda=0.005, SolverTolerance=floa
 curvature = CorrectedCurvature(Input=at, Radius=5)
 curvature.Normals = ["CELLS", "IINormals"]
 curvature.Regions = ["CELLS", "SurfelDirection"]
+# The mesh of the II normals (every process count gives them bit for bit),
+# the same regions: creases everywhere, across every piece border.
+mesh = PiecewiseSmoothMesh(Input=at, SolverTolerance=float(tolerance) / 100)
+mesh.Normals = ["CELLS", "IINormals"]
+mesh.Regions = ["CELLS", "SurfelDirection"]
 
 
 @calldata_type(VTK_STRING)  # the observer receives the message
@@ -47,10 +53,13 @@ def fail(obj, event, message=None):
     os._exit(1)
 
 
-for proxy in (volume, surface, ii, at, curvature):
+for proxy in (volume, surface, ii, at, curvature, mesh):
     proxy.GetClientSideObject().AddObserver(vtkCommand.ErrorEvent, fail)
 
 curvature.UpdatePipeline()
 SaveData(prefix + "_surface.pvtp", proxy=OutputPort(curvature, 0), CompressorType="LZ4", DataMode="Binary")
 SaveData(prefix + "_features.pvtp", proxy=OutputPort(at, 1), CompressorType="LZ4", DataMode="Binary")
 SaveData(prefix + "_creases.pvtp", proxy=OutputPort(curvature, 1), CompressorType="LZ4", DataMode="Binary")
+mesh.UpdatePipeline()
+SaveData(prefix + "_mesh.pvtp", proxy=OutputPort(mesh, 0), CompressorType="LZ4", DataMode="Binary")
+SaveData(prefix + "_meshcreases.pvtp", proxy=OutputPort(mesh, 1), CompressorType="LZ4", DataMode="Binary")

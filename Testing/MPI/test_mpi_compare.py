@@ -102,6 +102,9 @@ mc.compare(ref, res, check, "np%d vs 1, SolverTolerance 1e-8" % N, 0.01, 1e-5)
 if TOOL == "pvbatch":
     mc.compare_creases(ref_s, os.path.join(ref_dir, "r_creases.pvtp"), run_s,
                        os.path.join(run_dir, "r_creases.pvtp"), check, "np%d vs 1" % N)
+    mc.compare_mesh(os.path.join(ref_dir, "r_mesh.pvtp"), os.path.join(ref_dir, "r_meshcreases.pvtp"),
+                    os.path.join(run_dir, "r_mesh.pvtp"), os.path.join(run_dir, "r_meshcreases.pvtp"),
+                    check, "np%d vs 1" % N, 1e-6)
 
 again_dir, _, _ = runner(N, TIGHT, "np%d-tight-again" % N)
 a, b = mc.files_of(run_dir), mc.files_of(again_dir)
