@@ -453,8 +453,27 @@ void SplitPointsAtCreases(std::int64_t numberOfPoints, const std::vector<std::in
 {
   const std::int64_t nf = offsets.empty() ? 0 : static_cast<std::int64_t>(offsets.size()) - 1;
   const std::int64_t nc = static_cast<std::int64_t>(connectivity.size());
-  // Corners (a polygon's use of a point) of one fan: joined across every
-  // edge with exactly two faces of the same region.
+  // Point -> corners (a polygon's use of a point), and each corner's face.
+  std::vector<std::int64_t> start(numberOfPoints + 1, 0), corners(nc), faceOf(nc);
+  for (std::int64_t f = 0; f < nf; ++f)
+    for (std::int64_t i = offsets[f]; i < offsets[f + 1]; ++i)
+    {
+      faceOf[i] = f;
+      ++start[connectivity[i] + 1];
+    }
+  for (std::int64_t v = 0; v < numberOfPoints; ++v)
+    start[v + 1] += start[v];
+  {
+    std::vector<std::int64_t> fill(start.begin(), start.end() - 1);
+    for (std::int64_t i = 0; i < nc; ++i)
+      corners[fill[connectivity[i]]++] = i;
+  }
+  auto next = [&](std::int64_t i)
+  { return i + 1 < offsets[faceOf[i] + 1] ? i + 1 : offsets[faceOf[i]]; };
+  auto previous = [&](std::int64_t i)
+  { return i > offsets[faceOf[i]] ? i - 1 : offsets[faceOf[i] + 1] - 1; };
+  // Corners of one fan: joined across every side shared by exactly two
+  // faces of the same region.
   std::vector<std::int64_t> parent(nc);
   for (std::int64_t i = 0; i < nc; ++i)
     parent[i] = i;
@@ -464,71 +483,53 @@ void SplitPointsAtCreases(std::int64_t numberOfPoints, const std::vector<std::in
       i = parent[i] = parent[parent[i]];
     return i;
   };
-  struct Side
-  {
-    std::int64_t Low, High, CornerLow, CornerHigh, Face;
-    bool operator<(const Side& o) const { return Low != o.Low ? Low < o.Low : High < o.High; }
-  };
-  std::vector<Side> sides;
-  sides.reserve(nc);
-  for (std::int64_t f = 0; f < nf; ++f)
-  {
-    const std::int64_t m = offsets[f + 1] - offsets[f];
-    for (std::int64_t i = 0; i < m; ++i)
-    {
-      const std::int64_t ca = offsets[f] + i, cb = offsets[f] + (i + 1) % m;
-      const std::int64_t a = connectivity[ca], b = connectivity[cb];
-      if (a == b)
-        continue;
-      sides.push_back(a < b ? Side{ a, b, ca, cb, f } : Side{ b, a, cb, ca, f });
-    }
-  }
-  std::sort(sides.begin(), sides.end());
-  for (std::size_t i = 0; i < sides.size();)
-  {
-    std::size_t j = i + 1;
-    while (j < sides.size() && sides[j].Low == sides[i].Low && sides[j].High == sides[i].High)
-      ++j;
-    const bool smooth =
-      j - i == 2 && (!faceRegion || faceRegion[sides[i].Face] == faceRegion[sides[i + 1].Face]);
-    if (smooth)
-    {
-      parent[find(sides[i].CornerLow)] = find(sides[i + 1].CornerLow);
-      parent[find(sides[i].CornerHigh)] = find(sides[i + 1].CornerHigh);
-    }
-    i = j;
-  }
-  // One copy per fan, in point order; points no polygon uses keep one.
-  std::vector<std::pair<std::int64_t, std::int64_t>> fans; // (point, root)
-  fans.reserve(nc);
   for (std::int64_t i = 0; i < nc; ++i)
-    fans.emplace_back(connectivity[i], find(i));
-  std::sort(fans.begin(), fans.end());
-  fans.erase(std::unique(fans.begin(), fans.end()), fans.end());
+  {
+    const std::int64_t a = connectivity[i], j = next(i), b = connectivity[j];
+    if (a == b)
+      continue;
+    // The other faces' corners at a whose neighbour is b: the faces across.
+    std::int64_t across = -1, count = 0;
+    for (std::int64_t k = start[a]; k < start[a + 1]; ++k)
+    {
+      const std::int64_t c = corners[k];
+      if (faceOf[c] == faceOf[i])
+        continue;
+      if (connectivity[next(c)] == b || connectivity[previous(c)] == b)
+      {
+        across = c;
+        ++count;
+      }
+    }
+    if (count != 1 || faceOf[across] < faceOf[i] ||
+      (faceRegion && faceRegion[faceOf[across]] != faceRegion[faceOf[i]]))
+      continue;
+    const std::int64_t acrossB = connectivity[next(across)] == b ? next(across) : previous(across);
+    parent[find(i)] = find(across);
+    parent[find(j)] = find(acrossB);
+  }
+  // One copy per fan, in point order (a point's copies in the order of its
+  // corners); points no polygon uses keep one.
   copyOf.clear();
-  copyOf.reserve(fans.size() + 16);
-  std::size_t k = 0;
+  copyOf.reserve(numberOfPoints + numberOfPoints / 8);
+  std::vector<std::int64_t> copyOfRoot(nc, -1);
   for (std::int64_t v = 0; v < numberOfPoints; ++v)
   {
-    if (k == fans.size() || fans[k].first != v)
+    if (start[v] == start[v + 1])
     {
       copyOf.push_back(v);
       continue;
     }
-    for (; k < fans.size() && fans[k].first == v; ++k)
-      copyOf.push_back(v);
-  }
-  // Each corner to its fan's copy: the copies of a point are consecutive,
-  // in the order of their roots.
-  std::vector<std::int64_t> firstCopy(numberOfPoints, -1);
-  for (std::int64_t c = static_cast<std::int64_t>(copyOf.size()) - 1; c >= 0; --c)
-    firstCopy[copyOf[c]] = c;
-  for (std::int64_t i = 0; i < nc; ++i)
-  {
-    const std::int64_t v = connectivity[i];
-    const auto begin = std::lower_bound(fans.begin(), fans.end(), std::make_pair(v, std::int64_t(0)));
-    const auto it = std::lower_bound(begin, fans.end(), std::make_pair(v, find(i)));
-    connectivity[i] = firstCopy[v] + (it - begin);
+    for (std::int64_t k = start[v]; k < start[v + 1]; ++k)
+    {
+      const std::int64_t r = find(corners[k]);
+      if (copyOfRoot[r] < 0)
+      {
+        copyOfRoot[r] = static_cast<std::int64_t>(copyOf.size());
+        copyOf.push_back(v);
+      }
+      connectivity[corners[k]] = copyOfRoot[r];
+    }
   }
 }
 

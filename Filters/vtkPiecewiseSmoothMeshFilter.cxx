@@ -615,16 +615,40 @@ int vtkPiecewiseSmoothMeshFilter::RequestData(
   cells->SetData(cellOffsets, cellConn);
   output->SetPoints(pts);
   output->SetPolys(cells);
+  // The input's data: passed as they are where the output's cells (points)
+  // are the input's, in order; copied otherwise.
+  auto identity = [](vtkIdList* ids, vtkIdType n)
+  {
+    if (ids->GetNumberOfIds() != n)
+      return false;
+    for (vtkIdType i = 0; i < n; ++i)
+      if (ids->GetId(i) != i)
+        return false;
+    return true;
+  };
   vtkCellData* outCD = output->GetCellData();
-  outCD->CopyGlobalIdsOn(); // off by default in VTK's copies
-  outCD->CopyAllocate(input->GetCellData(), cellSource->GetNumberOfIds());
-  outCD->CopyData(input->GetCellData(), cellSource, Iota(cellSource->GetNumberOfIds()));
+  if (identity(cellSource, nCells))
+    outCD->PassData(input->GetCellData());
+  else
+  {
+    outCD->CopyGlobalIdsOn(); // off by default in VTK's copies
+    outCD->CopyAllocate(input->GetCellData(), cellSource->GetNumberOfIds());
+    outCD->CopyData(input->GetCellData(), cellSource, Iota(cellSource->GetNumberOfIds()));
+  }
   outCD->RemoveArray(vtkDataSetAttributes::GhostArrayName());
   vtkPointData* outPD = output->GetPointData();
-  outPD->CopyGlobalIdsOn();
-  outPD->CopyAllocate(input->GetPointData(), nOut);
-  outPD->CopyNormalsOff();
-  outPD->CopyData(input->GetPointData(), pointSource, Iota(nOut));
+  if (identity(pointSource, nPoints))
+  {
+    outPD->PassData(input->GetPointData());
+    outPD->SetNormals(nullptr);
+  }
+  else
+  {
+    outPD->CopyGlobalIdsOn();
+    outPD->CopyAllocate(input->GetPointData(), nOut);
+    outPD->CopyNormalsOff();
+    outPD->CopyData(input->GetPointData(), pointSource, Iota(nOut));
+  }
   outPD->AddArray(shiftArray);
   outPD->SetNormals(pointNormalArray);
   output->GetFieldData()->ShallowCopy(input->GetFieldData());
