@@ -96,6 +96,29 @@ check(mesh.GetOutput().GetNumberOfPolys() == 2 * digital.GetNumberOfPolys(), "tr
 cells = vtk_to_numpy(mesh.GetOutput().GetPolys().GetOffsetsArray())
 check(np.all(np.diff(cells) == 3), "every cell a triangle")
 
+# --- the corrected curvature on the mesh's positions (split points off:
+# one point per vertex) ---
+from digitalgeometry import vtkCorrectedCurvatureFilter  # noqa: E402
+mesh.OutputTrianglesOff()
+mesh.SplitFeaturePointsOff()
+curv = vtkCorrectedCurvatureFilter()
+curv.SetInputConnection(mesh.GetOutputPort())
+curv.Update()
+fd = curv.GetOutput().GetFieldData()
+area = fd.GetArray("CorrectedArea").GetValue(0)
+# the mesh's own area (its triangles) against the corrected measure on it
+from vtkmodules.vtkFiltersCore import vtkMassProperties, vtkTriangleFilter  # noqa: E402
+tri = vtkTriangleFilter()
+tri.SetInputConnection(mesh.GetOutputPort())
+mp = vtkMassProperties()
+mp.SetInputConnection(tri.GetOutputPort())
+mp.Update()
+check(abs(area / mp.GetSurfaceArea() - 1) < 0.01,
+      "curvature of the mesh: corrected area %.1f, the mesh's own %.1f" % (area, mp.GetSurfaceArea()))
+chi = fd.GetArray("GaussBonnetCharacteristic").GetValue(0)
+check(abs(chi - 2) < 1e-6, "curvature of the mesh: Gauss-Bonnet 2 (%.6f)" % chi)
+mesh.SplitFeaturePointsOn()
+
 # --- bad input: a polygon that is no voxel face; a NaN normal ---
 errors = []
 
