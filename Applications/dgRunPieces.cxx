@@ -95,14 +95,6 @@ int RunPieces(Options opt, dg::Processes& procs)
     procs.Barrier(); // as in agreeOrFail
     return 2;
   }
-  if (root)
-  {
-    std::cerr << Program << ": " << size << " processes: the sharp-features stage is not "
-              << "distributed; writing Ambrosio-Tortorelli's plain output (as --plain"
-              << (opt.P.SecondPass ? "; --second-pass ignored" : "") << ")\n";
-  }
-  opt.P.Sharpen = false;
-  opt.P.SecondPass = false;
   // Only rank 0 renders; it asks for its display before any work.
   {
     const std::string why = root && opt.Png ? PictureUnavailable() : std::string();
@@ -277,7 +269,7 @@ int RunPieces(Options opt, dg::Processes& procs)
   {
     const auto t0 = Clock::now();
     vtkSmartPointer<vtkPolyData> whole =
-      procs.GatherToRoot(result, { "Normals", pipeline.InputNormalsName(), "ATNormals" });
+      procs.GatherToRoot(result, { "Normals", pipeline.InputNormalsName(), pipeline.NormalsName() });
     vtkSmartPointer<vtkPolyData> lines = procs.GatherToRoot(features, {});
     if (root)
     {
@@ -339,6 +331,7 @@ int RunPieces(Options opt, dg::Processes& procs)
       info->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
   const long long surfels = procs.Sum(OwnedCells(pipeline.Surface->GetOutput()));
   const long long edges = procs.Sum(static_cast<long long>(features->GetNumberOfLines()));
+  const long long atEdges = procs.Sum(static_cast<long long>(pipeline.AT->GetOutput(1)->GetNumberOfLines()));
   const long long islands = procs.Sum(static_cast<long long>(
     opt.P.MinimumComponentSize > 1 ? pipeline.Islands->GetNumberOfRemovedIslands() : 0));
   const long long cavities = procs.Sum(static_cast<long long>(
@@ -371,8 +364,15 @@ int RunPieces(Options opt, dg::Processes& procs)
     stages << (&t != &times.front() ? ", " : "") << t.first << " " << t.second << " s";
   std::cout << Program << ": " << (opt.Input.empty() ? "built-in shape" : opt.Input) << " "
             << whole[1] - whole[0] + 1 << "x" << whole[3] - whole[2] + 1 << "x"
-            << whole[5] - whole[4] + 1 << ": " << surfels << " surfels, " << edges
-            << " feature edges (Ambrosio-Tortorelli, " << size << " processes)\n";
+            << whole[5] - whole[4] + 1 << ": " << surfels << " surfels, " << edges << " feature edges";
+  if (opt.P.Sharpen && opt.P.SecondPass)
+    std::cout << " (one line per edge, second pass; the first Ambrosio-Tortorelli alone: " << atEdges
+              << "; " << size << " processes)\n";
+  else if (opt.P.Sharpen)
+    std::cout << " (one line per edge; Ambrosio-Tortorelli alone: " << atEdges << "; " << size
+              << " processes)\n";
+  else
+    std::cout << " (Ambrosio-Tortorelli, " << size << " processes)\n";
   if (opt.P.MinimumComponentSize > 1)
     std::cout << "  removed " << islands << " inside components and filled " << cavities
               << " cavities smaller than " << opt.P.MinimumComponentSize << " voxels (" << changed
@@ -383,6 +383,9 @@ int RunPieces(Options opt, dg::Processes& procs)
             << static_cast<long>(memoryMax) << " MiB per rank at most (rank 0 "
             << static_cast<long>(memory) << " MiB, all ranks " << static_cast<long>(memorySum)
             << " MiB)\n";
+  if (opt.P.Sharpen)
+    std::cout << "  sharp features (gathered on rank 0): crease test " << pipeline.Sharp->GetCreaseTestTime()
+              << " s, output field " << pipeline.Sharp->GetFieldTime() << " s\n";
   for (const auto& [name, pieces] : { std::make_pair(prefix + "_surface", surfacePieces),
          std::make_pair(prefix + "_features", featurePieces) })
     std::cout << "  wrote " << (outDir / (name + ".pvtp")).string() << " and " << pieces

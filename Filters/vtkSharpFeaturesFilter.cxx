@@ -57,17 +57,7 @@ int vtkSharpFeaturesFilter::FillInputPortInformation(int, vtkInformation* info)
 int vtkSharpFeaturesFilter::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  if (vtkMultiProcessController* c = dg::PieceController(outputVector->GetInformationObject(0)))
-  {
-    if (c->GetLocalProcessId() == 0)
-    {
-      vtkErrorMacro("The sharp-features stage runs in one process only (its regions are global); "
-                    "in a distributed run use the Ambrosio-Tortorelli outputs (ATNormals, "
-                    "ATFeatureIndicator, the feature lines) or run this stage on the gathered "
-                    "surface.");
-    }
-    return 0;
-  }
+  vtkMultiProcessController* controller = dg::PieceController(outputVector->GetInformationObject(0));
   Internals& internal = *this->Internal;
   const auto abortGuard = internal.Abort.Begin(this, outputVector);
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
@@ -87,7 +77,14 @@ int vtkSharpFeaturesFilter::RequestData(
   {
     return internal.Abort.Abort(outputVector);
   }
+  if (controller)
+    return this->RequestDataPieces(controller, input, output, lines);
+  const int done = this->Execute(input, output, lines);
+  return done < 0 ? internal.Abort.Abort(outputVector) : done;
+}
 
+int vtkSharpFeaturesFilter::Execute(vtkPolyData* input, vtkPolyData* output, vtkPolyData* lines)
+{
   dg::SharpFeatureParameters par;
   par.FeatureThreshold = this->FeatureThreshold;
   par.MinimumRegionSize = this->MinimumRegionSize;
@@ -296,7 +293,7 @@ int vtkSharpFeaturesFilter::RequestData(
   if (!ok)
   {
     if (error.empty())
-      return internal.Abort.Abort(outputVector);
+      return -1; // aborted
     vtkErrorMacro(<< error);
     return 0;
   }

@@ -68,6 +68,8 @@
 #include <memory>
 #include <string>
 
+class vtkMultiProcessController;
+
 class VTKDIGITALGEOMETRY_EXPORT vtkSharpFeaturesFilter : public vtkPolyDataAlgorithm
 {
 public:
@@ -368,6 +370,14 @@ protected:
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  /// The stage on one whole surface: 1 done, 0 failed (error reported), -1
+  /// aborted.
+  int Execute(vtkPolyData* input, vtkPolyData* output, vtkPolyData* lines);
+  /// Pieces: the surface gathered on process 0 in one process's order, the
+  /// stage run there, each process's faces and lines sent back
+  /// (vtkSharpFeaturesFilterPieces.cxx).
+  int RequestDataPieces(vtkMultiProcessController* controller, vtkPolyData* input,
+    vtkPolyData* output, vtkPolyData* lines);
 
   double FeatureThreshold = 0.5;
   int MinimumRegionSize = 30;

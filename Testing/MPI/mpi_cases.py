@@ -423,6 +423,36 @@ def compare_creases(ref_surface, ref_creases, res_surface, res_creases, check, l
     check(worst <= 1e-9, "%s: crease angles equal one process's (max difference %.3g degrees)" % (label, worst))
 
 
+def compare_sharp(ref_surface, ref_features, res_surface, res_features, check, label, angle_limit):
+    """The sharp-features stage (the program's default output, or the
+    plugin's Sharp Features): the same surfels, SharpNormals within
+    angle_limit degrees, the same feature lines by global point ids (each
+    once), the same FeatureRegion partition up to relabelling."""
+    ref, res = Result(ref_surface, ref_features, reference=True), Result(res_surface, res_features)
+    rs, ts = array(ref.surface.GetCellData(), "SharpNormals"), array(res.surface.GetCellData(), "SharpNormals")
+    rr, tr = array(ref.surface.GetCellData(), "FeatureRegion"), array(res.surface.GetCellData(), "FeatureRegion")
+    ok = all(x is not None for x in (rs, ts, rr, tr, ref.cell_ids, res.cell_ids))
+    same = ok and np.array_equal(np.sort(ref.cell_ids), np.sort(res.cell_ids))
+    check(same, "%s: the same surfels (%d) with SharpNormals and FeatureRegion" % (label, len(res.cell_ids) if ok else 0))
+    if not same:
+        return
+    ir, it = np.argsort(ref.cell_ids), np.argsort(res.cell_ids)
+    dots = np.clip((rs[ir] * ts[it]).sum(1) / np.linalg.norm(rs[ir], axis=1) / np.linalg.norm(ts[it], axis=1), -1, 1)
+    worst = float(np.degrees(np.arccos(dots)).max())
+    check(worst <= angle_limit, "%s: SharpNormals within %g degree of one process's (max %.3g)" % (label, angle_limit, worst))
+    a, b = rr[ir], tr[it]
+    pairs = set(zip(a.tolist(), b.tolist()))
+    bijective = len(pairs) == len(set(a.tolist())) == len(set(b.tolist()))
+    check(bijective, "%s: the same FeatureRegion partition up to relabelling (%d regions, %d label pairs)"
+          % (label, len(set(a.tolist())), len(pairs)))
+    re_, te = ref.edges(), res.edges()
+    dup = len(te) - len(set(te))
+    # (a smooth case has none in both)
+    check(set(re_) == set(te) and dup == 0,
+          "%s: the same feature lines (%d; %d only in one process, %d only here, %d listed twice)"
+          % (label, len(set(re_)), len(set(re_) - set(te)), len(set(te) - set(re_)), dup))
+
+
 def mesh_points(mesh):
     """A mesh's moved positions by the contract's point id of the voxel
     corner each vertex started from (its position minus MeshDisplacement;

@@ -8,7 +8,9 @@ SurfelDirection, so that every edge where the staircase turns is a crease
 and the creases cross the pieces' borders everywhere) on every rank's
 piece, written with ParaView's parallel writer as OUTPREFIX_surface.pvtp,
 OUTPREFIX_features.pvtp, OUTPREFIX_creases.pvtp, OUTPREFIX_mesh.pvtp and
-OUTPREFIX_meshcreases.pvtp (pieces in folders of those names).
+OUTPREFIX_meshcreases.pvtp, and Sharp Features after Ambrosio-Tortorelli
+as OUTPREFIX_sharp.pvtp and OUTPREFIX_sharplines.pvtp (pieces in folders
+of those names).
 
 DG_MPI_BAD_RANK=r gives rank r a bad II radius (-1): that rank reports the
 filter's error in one line and exits 1 at once, so that mpirun ends the
@@ -53,13 +55,17 @@ def fail(obj, event, message=None):
     os._exit(1)
 
 
-for proxy in (volume, surface, ii, at, curvature, mesh):
+sharp = SharpFeatures(Input=at)
+for proxy in (volume, surface, ii, at, curvature, mesh, sharp):
     proxy.GetClientSideObject().AddObserver(vtkCommand.ErrorEvent, fail)
 
 curvature.UpdatePipeline()
 SaveData(prefix + "_surface.pvtp", proxy=OutputPort(curvature, 0), CompressorType="LZ4", DataMode="Binary")
 SaveData(prefix + "_features.pvtp", proxy=OutputPort(at, 1), CompressorType="LZ4", DataMode="Binary")
 SaveData(prefix + "_creases.pvtp", proxy=OutputPort(curvature, 1), CompressorType="LZ4", DataMode="Binary")
+sharp.UpdatePipeline()
+SaveData(prefix + "_sharp.pvtp", proxy=OutputPort(sharp, 0), CompressorType="LZ4", DataMode="Binary")
+SaveData(prefix + "_sharplines.pvtp", proxy=OutputPort(sharp, 1), CompressorType="LZ4", DataMode="Binary")
 mesh.UpdatePipeline()
 SaveData(prefix + "_mesh.pvtp", proxy=OutputPort(mesh, 0), CompressorType="LZ4", DataMode="Binary")
 SaveData(prefix + "_meshcreases.pvtp", proxy=OutputPort(mesh, 1), CompressorType="LZ4", DataMode="Binary")

@@ -35,16 +35,20 @@ def run(cmd, timeout=300):
     return p, dt
 
 
-def program(ranks, tolerance, tag):
+STDOUT = {}
+
+
+def program(ranks, tolerance, tag, plain=True):
     """Runs the program on `ranks` processes (0 = without mpirun); returns (folder, surface, features)."""
     out = os.path.join(ROOT, tag)
-    cmd = [os.environ["DG_PROGRAM"], "--quiet", "--no-png", "--plain", "--solver-tolerance", tolerance,
-           "--output-dir", out, "--prefix", "r", VOLUME]
+    cmd = [os.environ["DG_PROGRAM"], "--quiet", "--no-png"] + (["--plain"] if plain else []) + [
+           "--solver-tolerance", tolerance, "--output-dir", out, "--prefix", "r", VOLUME]
     if ranks:
         cmd = MPIRUN + ["-np", str(ranks)] + cmd
     p, dt = run(cmd)
     ext = "pvtp" if ranks > 1 else "vtp"
     print("info %s: %.1f s; %s" % (tag, dt, (p.stdout.strip().splitlines() or ["no output"])[0]))
+    STDOUT[tag] = p.stdout
     if not check(p.returncode == 0, "%s: the program exits 0" % tag):
         sys.exit(finish())
     return out, os.path.join(out, "r_surface." + ext), os.path.join(out, "r_features." + ext)
@@ -99,7 +103,22 @@ if res.cell_ids is not None and res.surface.GetNumberOfCells():
     check(res.surface.GetCellData().GetGlobalIds() is not None and res.surface.GetPointData().GetGlobalIds() is not None,
           "%d-rank GlobalIds are the attributes' global ids" % N)
 mc.compare(ref, res, check, "np%d vs 1, SolverTolerance 1e-8" % N, 0.01, 1e-5)
+if TOOL == "program":
+    # The default output (the sharp-features stage, gathered on rank 0).
+    _, sref_s, sref_f = program(0, TIGHT, "one-sharp", plain=False)
+    _, srun_s, srun_f = program(N, TIGHT, "np%d-sharp" % N, plain=False)
+    mc.compare_sharp(sref_s, sref_f, srun_s, srun_f, check, "np%d vs 1, default output" % N, 0.01)
+
+    def counts(text):
+        first = (text.strip().splitlines() or [""])[0]
+        return first.split(": ", 1)[-1].split(" (")[0]
+    check(counts(STDOUT["one-sharp"]) == counts(STDOUT["np%d-sharp" % N]) != "",
+          "np%d vs 1: the same summary counts (%s | %s)" % (N, counts(STDOUT["one-sharp"]),
+                                                           counts(STDOUT["np%d-sharp" % N])))
 if TOOL == "pvbatch":
+    mc.compare_sharp(ref_s.replace("r_surface", "r_sharp"), ref_s.replace("r_surface", "r_sharplines"),
+                     run_s.replace("r_surface", "r_sharp"), run_s.replace("r_surface", "r_sharplines"),
+                     check, "np%d vs 1, Sharp Features" % N, 0.01)
     mc.compare_creases(ref_s, os.path.join(ref_dir, "r_creases.pvtp"), run_s,
                        os.path.join(run_dir, "r_creases.pvtp"), check, "np%d vs 1" % N)
     mc.compare_mesh(os.path.join(ref_dir, "r_mesh.pvtp"), os.path.join(ref_dir, "r_meshcreases.pvtp"),

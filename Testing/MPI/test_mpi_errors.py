@@ -110,10 +110,11 @@ def program_errors():
             check(same and d == 0.0, "2 ranks on the %s input: the .vti's surfels and AT normals "
                   "(%d surfels, max difference %.3g)" % (name, len(b.cell_ids) if b.cell_ids is not None else 0, d))
 
-    # The picture: 2 ranks (gathered on rank 0) against one process --plain.
+    # The picture: 2 ranks (gathered on rank 0) against one process, both
+    # with the defaults (the sharp stage included).
     vti = mc.write_vti(image, os.path.join(ROOT, "ball.vti"))
     shown = os.path.join(ROOT, "one")
-    p1, _ = run([prog, "--quiet", "--plain", "--width", "400", "--height", "300", "--output-dir", shown,
+    p1, _ = run([prog, "--quiet", "--width", "400", "--height", "300", "--output-dir", shown,
                  "--prefix", "b", vti])
     shown2 = os.path.join(ROOT, "two")
     p2, dt = run(MPIRUN + ["-np", "2", prog, "--quiet", "--width", "400", "--height", "300",
@@ -136,7 +137,7 @@ def program_errors():
         frac = float(np.mean(np.any(a != b, axis=-1))) if same else 1.0
         print("info picture: 2 ranks (%.1f s) against one process: %.3f %% of the pixels differ"
               % (dt, 100 * frac))
-        check(same and frac < 0.01, "2-rank picture equals the one-process --plain picture "
+        check(same and frac < 0.01, "2-rank picture equals the one-process picture "
               "(%.3f %% pixels differ)" % (100 * frac))
 
 
