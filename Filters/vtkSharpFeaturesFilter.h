@@ -55,9 +55,12 @@
  * and empty outputs; aborting gives empty outputs without an error.
  *
  * Pieces: the region growing and merging are global (a region can span
- * the whole surface), so the filter runs in one process only; asked for one
- * of several pieces under a multi-process controller, it reports an error
- * (from process 0) and gives empty outputs on every process.
+ * the whole surface). Under a multi-process controller every process
+ * sends its own faces (matched by their cell and point "GlobalIds") to
+ * process 0, which runs the stage on the whole surface in one process's
+ * order and sends each process the arrays of its own faces and the feature
+ * lines it owns: the result is one process's. Process 0 holds the whole
+ * surface meanwhile (docs/distributed.md).
  */
 #ifndef vtkSharpFeaturesFilter_h
 #define vtkSharpFeaturesFilter_h
