@@ -1,6 +1,7 @@
 #include "dgProcesses.h"
 
 #include <vtkCellData.h>
+#include <vtkPointData.h>
 #include <vtkDataArray.h>
 #include <vtkNew.h>
 #include <vtkXMLWriter.h>
@@ -173,8 +174,8 @@ void Processes::Barrier() const
 #endif
 }
 
-vtkSmartPointer<vtkPolyData> Processes::GatherToRoot(
-  vtkPolyData* piece, const std::vector<std::string>& cellArrays) const
+vtkSmartPointer<vtkPolyData> Processes::GatherToRoot(vtkPolyData* piece,
+  const std::vector<std::string>& cellArrays, const std::vector<std::string>& pointArrays) const
 {
 #ifdef DG_HAVE_MPI
   if (this->MPI)
@@ -195,6 +196,16 @@ vtkSmartPointer<vtkPolyData> Processes::GatherToRoot(
         slim->GetCellData()->AddArray(a);
         if (a == cd->GetNormals())
           slim->GetCellData()->SetNormals(a);
+      }
+    }
+    vtkPointData* pd = piece->GetPointData();
+    for (const auto& name : pointArrays)
+    {
+      if (vtkDataArray* a = pd->GetArray(name.c_str()))
+      {
+        slim->GetPointData()->AddArray(a);
+        if (a == pd->GetNormals())
+          slim->GetPointData()->SetNormals(a);
       }
     }
     std::vector<vtkSmartPointer<vtkDataObject>> received;

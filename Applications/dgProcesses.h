@@ -53,13 +53,14 @@ public:
   bool All(bool ok) const;
   void Barrier() const;
 
-  /// Rank 0 receives every rank's `piece` (only the listed cell arrays are
-  /// sent; the active cell normals keep their role) and returns them
+  /// Rank 0 receives every rank's `piece` (only the listed cell and point
+  /// arrays are sent; the active normals keep their role) and returns them
   /// appended; other ranks return nullptr. The appended surface keeps the
-  /// pieces' copies of shared border points (the picture does not need
-  /// them merged). Collective.
-  vtkSmartPointer<vtkPolyData> GatherToRoot(
-    vtkPolyData* piece, const std::vector<std::string>& cellArrays) const;
+  /// pieces' copies of shared border points (the pictures and the mesh
+  /// files do not need them merged). Collective.
+  vtkSmartPointer<vtkPolyData> GatherToRoot(vtkPolyData* piece,
+    const std::vector<std::string>& cellArrays,
+    const std::vector<std::string>& pointArrays = {}) const;
 
   /// An XML writer of one piece of a parallel .pvtp (pieces PREFIX_r.vtp
   /// next to it, the summary written by rank 0; an empty piece is neither

@@ -124,6 +124,9 @@ Mesh (vertices moved to follow the final normals, sharp edges kept, docs/mesh.md
                          that follows its normal best); implies --mesh
   --mesh-format LIST     also write the mesh as stl, ply and/or obj ("stl,ply"),
                          with normals (STL: per facet; implies --mesh-triangles)
+  --mesh-tolerance T     the mesh solve's relative residual per iteration (default
+                         1e-3; several processes give one process's positions
+                         to about T voxel: 1e-10 within 1e-8)
 Outputs (in --output-dir, named PREFIX_*; PREFIX defaults to the input's name)
   --output-dir DIR       default: current directory (created if missing)
   --prefix NAME          file name prefix
@@ -367,6 +370,13 @@ Options ParseOptions(int argc, char* argv[])
       o.Mesh = true;
     else if (arg == "--mesh-triangles")
       o.Mesh = o.MeshTriangles = true;
+    else if (arg == "--mesh-tolerance")
+    {
+      o.Mesh = true;
+      o.MeshTolerance = number();
+      if (!(o.MeshTolerance > 0 && o.MeshTolerance < 1))
+        OptionError("--mesh-tolerance must be in (0, 1)");
+    }
     else if (arg == "--mesh-format")
     {
       o.Mesh = true;

@@ -30,6 +30,7 @@ struct Options
   // final normals, in triangles on request, also as STL / PLY / OBJ.
   bool Mesh = false, MeshTriangles = false;
   bool MeshStl = false, MeshPly = false, MeshObj = false;
+  double MeshTolerance = 1e-3; // vtkPiecewiseSmoothMeshFilter's SolverTolerance
 };
 
 /// Under mpirun every rank parses the same options: rank 0 alone prints

@@ -4,6 +4,9 @@
 #include "dgBuiltinShape.h"
 #include "dgImageInput.h"
 #include "dgRender.h"
+#include "dgRenderCurvature.h"
+#include "dgRenderMesh.h"
+#include "vtkPiecewiseSmoothMeshFilter.h"
 #include "dgLabels.h"
 #include "dgPipeline.h"
 #include "dgProcesses.h"
@@ -22,12 +25,16 @@
 #include <vtkPointData.h>
 #include <vtkStringOutputWindow.h>
 #include <vtkPolyData.h>
+#include <vtkOBJWriter.h>
+#include <vtkPLYWriter.h>
+#include <vtkSTLWriter.h>
 #include <vtkXMLPolyDataWriter.h>
 #include <vtkXMLWriter.h>
 
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -70,28 +77,11 @@ int RunPieces(Options opt, dg::Processes& procs)
     return false;
   };
 
-  if (opt.Ply || opt.Obj)
-  {
-    if (root)
-      std::cerr << Program << ": --ply and --obj are not available with " << size
-                << " processes (convert the .pvtp afterwards)\n";
-    procs.Barrier(); // as in agreeOrFail
-    return 2;
-  }
   if (!opt.Labels.empty())
   {
     if (root)
       std::cerr << Program << ": --labels is not available with " << size
                 << " processes (run one process per label, or one process)\n";
-    procs.Barrier(); // as in agreeOrFail
-    return 2;
-  }
-  if (opt.P.Curvature || opt.Mesh)
-  {
-    if (root)
-      std::cerr << Program << ": " << (opt.Mesh ? "--mesh" : "--curvature")
-                << " is not available with " << size << " processes (the "
-                << (opt.Mesh ? "mesh" : "curvature") << " stage runs in one process)\n";
     procs.Barrier(); // as in agreeOrFail
     return 2;
   }
@@ -217,6 +207,20 @@ int RunPieces(Options opt, dg::Processes& procs)
   }
   vtkPolyData* result = pipeline.Result();
   vtkPolyData* features = pipeline.Features();
+  // The mesh of this rank's faces: the stage is piece-aware, so it is
+  // updated as a piece of the same partition.
+  vtkNew<vtkPiecewiseSmoothMeshFilter> mesh;
+  if (opt.Mesh)
+  {
+    mesh->SetInputConnection(last->GetOutputPort(0));
+    mesh->SetInputArrayToProcess(
+      0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, pipeline.NormalsName());
+    mesh->SetOutputTriangles(opt.MeshTriangles);
+    mesh->SetSolverTolerance(opt.MeshTolerance);
+    watch(mesh, "mesh", false);
+    if (!mesh->UpdatePiece(rank, size, 0) || errors->Failed)
+      return rankFail(errors->Failed ? errors->Message : "the mesh failed on this piece");
+  }
   // Every piece is done before any file is made: a rank that failed has
   // exited, and mpirun ends this one while it waits here, with nothing
   // written.
@@ -258,6 +262,55 @@ int RunPieces(Options opt, dg::Processes& procs)
     return writeFailure(prefix + "_surface");
   if (!writePieces(features, prefix + "_features"))
     return writeFailure(prefix + "_features");
+  if (opt.P.Curvature && !writePieces(pipeline.Creases(), prefix + "_creases"))
+    return writeFailure(prefix + "_creases");
+  if (opt.Mesh && !writePieces(mesh->GetOutput(0), prefix + "_mesh"))
+    return writeFailure(prefix + "_mesh");
+  if (opt.Mesh && !writePieces(mesh->GetOutput(1), prefix + "_mesh_creases"))
+    return writeFailure(prefix + "_mesh_creases");
+  // Formats without pieces: gathered on rank 0, written there (the pieces'
+  // border points stay repeated, as the .pvtp's pieces repeat them).
+  auto writeGathered = [&](vtkPolyData* pd, const std::vector<std::string>& cells,
+                         const std::vector<std::string>& points, const std::string& name,
+                         auto makeWriter)
+  {
+    vtkSmartPointer<vtkPolyData> whole = procs.GatherToRoot(pd, cells, points);
+    bool ok = true;
+    if (root)
+    {
+      auto w = makeWriter();
+      w->SetInputData(whole);
+      w->SetFileName((partDir / name).string().c_str());
+      w->AddObserver(vtkCommand::ErrorEvent, errors);
+      ok = w->Write() == 1 && w->GetErrorCode() == vtkErrorCode::NoError && !errors->Failed;
+      mine.push_back(name);
+    }
+    return agreeOrFail(ok, "cannot write " + (outDir / name).string());
+  };
+  const std::vector<std::string> surfaceArrays = { pipeline.NormalsName(), "FeatureRegion" };
+  if (opt.Ply && !writeGathered(result, surfaceArrays, {}, prefix + "_surface.ply",
+                   [] { return vtkSmartPointer<vtkPLYWriter>::New(); }))
+    return 1;
+  if (opt.Obj && !writeGathered(result, surfaceArrays, {}, prefix + "_surface.obj",
+                   [] { return vtkSmartPointer<vtkOBJWriter>::New(); }))
+    return 1;
+  if (opt.MeshStl && !writeGathered(mesh->GetOutput(0), {}, {}, prefix + "_mesh.stl", []
+                       {
+                         auto w = vtkSmartPointer<vtkSTLWriter>::New();
+                         w->SetFileTypeToBinary();
+                         return w;
+                       }))
+    return 1;
+  if (opt.MeshPly && !writeGathered(mesh->GetOutput(0), {}, { "Normals" }, prefix + "_mesh.ply", []
+                       {
+                         auto w = vtkSmartPointer<vtkPLYWriter>::New();
+                         w->SetFileTypeToBinary();
+                         return w;
+                       }))
+    return 1;
+  if (opt.MeshObj && !writeGathered(mesh->GetOutput(0), {}, { "Normals" }, prefix + "_mesh.obj",
+                       [] { return vtkSmartPointer<vtkOBJWriter>::New(); }))
+    return 1;
   const double writeTime = std::chrono::duration<double>(Clock::now() - writeStart).count();
 
   // 4. The picture, on rank 0, from the gathered pieces: points, quads and
@@ -286,6 +339,33 @@ int RunPieces(Options opt, dg::Processes& procs)
             (partDir / (prefix + ".png")).string(),
             error))
         return rankFail(error);
+    }
+    if (opt.P.Curvature)
+    {
+      vtkSmartPointer<vtkPolyData> curved = procs.GatherToRoot(
+        result, { "CorrectedMeanCurvature", "CorrectedK1", "CorrectedK2" });
+      vtkSmartPointer<vtkPolyData> creases = procs.GatherToRoot(pipeline.Creases(), {});
+      std::string error;
+      if (root)
+      {
+        mine.push_back(prefix + "_curvature.png");
+        if (!dg::RenderCurvaturePicture(
+              curved, creases, opt.Width, (partDir / (prefix + "_curvature.png")).string(), error))
+          return rankFail(error);
+      }
+    }
+    if (opt.Mesh)
+    {
+      vtkSmartPointer<vtkPolyData> moved = procs.GatherToRoot(mesh->GetOutput(0), {});
+      vtkSmartPointer<vtkPolyData> creases = procs.GatherToRoot(mesh->GetOutput(1), {});
+      std::string error;
+      if (root)
+      {
+        mine.push_back(prefix + "_mesh.png");
+        if (!dg::RenderMeshPicture(
+              whole, moved, creases, opt.Width, (partDir / (prefix + "_mesh.png")).string(), error))
+          return rankFail(error);
+      }
     }
     renderTime = std::chrono::duration<double>(Clock::now() - t0).count();
   }
@@ -383,6 +463,18 @@ int RunPieces(Options opt, dg::Processes& procs)
             << static_cast<long>(memoryMax) << " MiB per rank at most (rank 0 "
             << static_cast<long>(memory) << " MiB, all ranks " << static_cast<long>(memorySum)
             << " MiB)\n";
+  if (opt.P.Curvature)
+  {
+    vtkCorrectedCurvatureFilter* cc = pipeline.Curvature;
+    std::cout << "  curvature (ball " << opt.P.CurvatureRadius << " voxels): area " << cc->GetArea()
+              << ", integral of H " << cc->GetIntegralMeanCurvature() << ", Euler characteristic "
+              << cc->GetIntegralGaussianCurvature() / (2 * M_PI) << " by Gauss-Bonnet, "
+              << cc->GetEulerCharacteristic() << " by V - E + F\n";
+  }
+  if (opt.Mesh)
+    std::cout << "  mesh: " << mesh->GetNumberOfCreaseEdges() << " crease edges, largest move "
+              << mesh->GetMaximumDisplacement() << " voxel along an axis, "
+              << mesh->GetNumberOfBoundCoordinates() << " coordinates at their cell's bound\n";
   if (opt.P.Sharpen)
     std::cout << "  sharp features (gathered on rank 0): crease test " << pipeline.Sharp->GetCreaseTestTime()
               << " s, output field " << pipeline.Sharp->GetFieldTime() << " s\n";
@@ -393,6 +485,15 @@ int RunPieces(Options opt, dg::Processes& procs)
               << "_R.vtp (R = rank)\n";
   if (opt.Png)
     std::cout << "  wrote " << (outDir / (prefix + ".png")).string() << "\n";
+  // The other files rank 0 placed: the stages' .pvtp summaries, the
+  // gathered formats and the other pictures.
+  for (const auto& name : mine)
+  {
+    const bool piece = name.size() > 4 && name.compare(name.size() - 4, 4, ".vtp") == 0;
+    if (!piece && name != prefix + "_surface.pvtp" && name != prefix + "_features.pvtp" &&
+      name != prefix + ".png")
+      std::cout << "  wrote " << (outDir / name).string() << "\n";
+  }
   procs.Finalize();
   return 0;
 }

@@ -293,6 +293,7 @@ int main(int argc, char* argv[])
     mesh->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
       normals && normals->GetName() ? normals->GetName() : "SharpNormals");
     mesh->SetOutputTriangles(opt.MeshTriangles);
+    mesh->SetSolverTolerance(opt.MeshTolerance);
     watch(mesh);
     progress->Stage = "mesh";
     t = Clock::now();
