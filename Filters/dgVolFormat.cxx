@@ -57,11 +57,15 @@ bool ParseDouble(const std::string& text, double& value)
 }
 } // namespace
 
-bool ParseVol(const std::uint8_t* bytes, std::size_t size, VolHeader& header,
-  std::vector<std::uint8_t>* voxels, std::string& error, const std::function<bool(double)>& progress)
+namespace
+{
+// The header part of ParseVol: on success, pos is the first byte after the
+// "." line and count the number of voxels.
+bool ParseVolHeader(const std::uint8_t* bytes, std::size_t size, VolHeader& header,
+  std::size_t& pos, std::uint64_t& count, std::string& error)
 {
   header = VolHeader();
-  std::size_t pos = 0;
+  pos = 0;
   bool sawDot = false;
   while (pos < size && pos < MaxHeaderBytes)
   {
@@ -110,7 +114,7 @@ bool ParseVol(const std::uint8_t* bytes, std::size_t size, VolHeader& header,
   }
 
   const char* keys[3] = { "X", "Y", "Z" };
-  std::uint64_t count = 1;
+  count = 1;
   for (int a = 0; a < 3; ++a)
   {
     auto it = header.Fields.find(keys[a]);
@@ -153,6 +157,47 @@ bool ParseVol(const std::uint8_t* bytes, std::size_t size, VolHeader& header,
     }
     header.VoxelSize = s;
   }
+  return true;
+}
+
+// Deflate cannot expand data more than 1032:1, so a header promising more
+// than that is refused before anything is allocated: a 100-byte file must
+// not make the reader allocate gigabytes (found by fuzzing).
+bool StreamCanHold(std::uint64_t available, std::uint64_t count, std::string& error)
+{
+  if (count > available * 1032 + 1024)
+  {
+    std::ostringstream msg;
+    msg << "zlib stream of " << available << " bytes cannot hold the " << count
+        << " voxels of the header's dimensions (truncated file?)";
+    error = msg.str();
+    return false;
+  }
+  return true;
+}
+
+bool RawSizeMatches(std::uint64_t available, std::uint64_t count, std::string& error)
+{
+  if (available != count)
+  {
+    std::ostringstream msg;
+    msg << "voxel data holds " << available << " bytes, the header's dimensions need " << count;
+    error = msg.str();
+    return false;
+  }
+  return true;
+}
+} // namespace
+
+bool ParseVol(const std::uint8_t* bytes, std::size_t size, VolHeader& header,
+  std::vector<std::uint8_t>* voxels, std::string& error, const std::function<bool(double)>& progress)
+{
+  std::size_t pos = 0;
+  std::uint64_t count = 0;
+  if (!ParseVolHeader(bytes, size, header, pos, count, error))
+  {
+    return false;
+  }
   if (!voxels)
   {
     return true;
@@ -162,11 +207,8 @@ bool ParseVol(const std::uint8_t* bytes, std::size_t size, VolHeader& header,
   const std::size_t available = size - pos;
   if (header.Version == 2)
   {
-    if (available != count)
+    if (!RawSizeMatches(available, count, error))
     {
-      std::ostringstream msg;
-      msg << "voxel data holds " << available << " bytes, the header's dimensions need " << count;
-      error = msg.str();
       return false;
     }
     voxels->assign(data, data + count);
@@ -174,15 +216,8 @@ bool ParseVol(const std::uint8_t* bytes, std::size_t size, VolHeader& header,
   }
 
   // Version 3: exactly one zlib stream that inflates to exactly count bytes.
-  // Deflate cannot expand data more than 1032:1, so a header promising more
-  // than that is refused before anything is allocated: a 100-byte file must
-  // not make the reader allocate gigabytes (found by fuzzing).
-  if (count > static_cast<std::uint64_t>(available) * 1032 + 1024)
+  if (!StreamCanHold(available, count, error))
   {
-    std::ostringstream msg;
-    msg << "zlib stream of " << available << " bytes cannot hold the " << count
-        << " voxels of the header's dimensions (truncated file?)";
-    error = msg.str();
     return false;
   }
   // zlib counts in uInt, so input and output are handed over in chunks.
@@ -294,6 +329,253 @@ bool ReadVolFile(const std::string& path, VolHeader& header, std::vector<std::ui
   if (!ParseVol(bytes.data(), bytes.size(), header, voxels, error, progress))
   {
     error = path + ": " + error;
+    return false;
+  }
+  return true;
+}
+
+void CopySpanToBox(const std::uint8_t* span, std::uint64_t start, std::uint64_t n,
+  const int dims[3], const int box[6], std::uint8_t* out)
+{
+  if (box[1] < box[0] || box[3] < box[2] || box[5] < box[4])
+  {
+    return;
+  }
+  const std::uint64_t nx = static_cast<std::uint64_t>(dims[0]);
+  const std::uint64_t ny = static_cast<std::uint64_t>(dims[1]);
+  const std::uint64_t bx = static_cast<std::uint64_t>(box[1] - box[0] + 1);
+  const std::uint64_t by = static_cast<std::uint64_t>(box[3] - box[2] + 1);
+  const std::uint64_t end = start + n;
+  std::uint64_t p = start;
+  // One step per row of the box met in the span; rows outside the box are
+  // jumped over (a whole slab at once before the box's first slice), so the
+  // cost follows the box, not the span.
+  while (p < end)
+  {
+    const std::uint64_t row = p / nx;
+    const std::uint64_t y = row % ny;
+    const std::uint64_t z = row / ny;
+    if (z > static_cast<std::uint64_t>(box[5]))
+    {
+      return;
+    }
+    if (z < static_cast<std::uint64_t>(box[4]))
+    {
+      p = (static_cast<std::uint64_t>(box[4]) * ny + box[2]) * nx;
+      continue;
+    }
+    if (y < static_cast<std::uint64_t>(box[2]))
+    {
+      p = (z * ny + box[2]) * nx;
+      continue;
+    }
+    if (y > static_cast<std::uint64_t>(box[3]))
+    {
+      p = ((z + 1) * ny + box[2]) * nx;
+      continue;
+    }
+    const std::uint64_t rowStart = row * nx;
+    const std::uint64_t lo = std::max<std::uint64_t>(p, rowStart + box[0]);
+    const std::uint64_t hi = std::min<std::uint64_t>(end, rowStart + box[1] + 1);
+    if (lo < hi)
+    {
+      std::memcpy(out + ((z - box[4]) * by + (y - box[2])) * bx + (lo - rowStart - box[0]),
+        span + (lo - start), static_cast<std::size_t>(hi - lo));
+    }
+    p = rowStart + nx;
+  }
+}
+
+bool VolStream::Open(const std::string& path, std::string& error)
+{
+  this->In.close();
+  this->In.clear();
+  this->In.open(path, std::ios::binary);
+  if (!this->In)
+  {
+    error = "cannot open '" + path + "': " + std::strerror(errno);
+    return false;
+  }
+  // The header from the first bytes only, as RequestInformation reads it.
+  std::vector<std::uint8_t> head(MaxHeaderBytes);
+  this->In.read(reinterpret_cast<char*>(head.data()), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(this->In.gcount()));
+  this->In.clear();
+  std::size_t pos = 0;
+  std::uint64_t count = 0;
+  if (!ParseVolHeader(head.data(), head.size(), this->Head, pos, count, error))
+  {
+    return false;
+  }
+  this->In.seekg(0, std::ios::end);
+  const std::streamoff length = this->In.tellg();
+  if (length < 0 || static_cast<std::uint64_t>(length) < pos)
+  {
+    error = "cannot read '" + path + "'";
+    return false;
+  }
+  this->DataOffset = pos;
+  this->DataSize = static_cast<std::uint64_t>(length) - pos;
+  // The size checks of ParseVol, before the caller allocates anything.
+  return this->Head.Version == 2 ? RawSizeMatches(this->DataSize, count, error)
+                                 : StreamCanHold(this->DataSize, count, error);
+}
+
+bool VolStream::ReadBox(const int box[6], std::uint8_t* out, std::string& error,
+  const std::function<bool(double)>& progress)
+{
+  for (int a = 0; a < 3; ++a)
+  {
+    if (box[2 * a] <= box[2 * a + 1] &&
+      (box[2 * a] < 0 || box[2 * a + 1] >= this->Head.Dims[a]))
+    {
+      error = "requested box outside the volume";
+      return false;
+    }
+  }
+  return this->Head.Version == 2 ? this->ReadRaw(box, out, error, progress)
+                                 : this->Inflate(box, out, error, progress);
+}
+
+bool VolStream::ReadRaw(const int box[6], std::uint8_t* out, std::string& error,
+  const std::function<bool(double)>& progress)
+{
+  if (box[1] < box[0] || box[3] < box[2] || box[5] < box[4])
+  {
+    return true; // the size was checked by Open: nothing else can fail
+  }
+  const std::uint64_t nx = static_cast<std::uint64_t>(this->Head.Dims[0]);
+  const std::uint64_t ny = static_cast<std::uint64_t>(this->Head.Dims[1]);
+  const std::uint64_t bx = static_cast<std::uint64_t>(box[1] - box[0] + 1);
+  const std::uint64_t by = static_cast<std::uint64_t>(box[3] - box[2] + 1);
+  const std::uint64_t bz = static_cast<std::uint64_t>(box[5] - box[4] + 1);
+  // Contiguous runs: whole slabs when the box spans x and y, whole rows of
+  // a slice when it spans x, else one row of the box at a time.
+  const bool fullX = bx == nx, fullY = fullX && by == ny;
+  const std::uint64_t run = fullY ? bx * by * bz : fullX ? bx * by : bx;
+  const std::uint64_t runs = bx * by * bz / run;
+  const std::uint64_t report = std::max<std::uint64_t>(1, runs / 64);
+  for (std::uint64_t r = 0; r < runs; ++r)
+  {
+    // The run's first voxel: row r of the box (or slice r, or the slab).
+    const std::uint64_t rowsPerRun = fullY ? by * bz : fullX ? by : 1;
+    const std::uint64_t row = r * rowsPerRun;
+    const std::uint64_t z = box[4] + row / by, y = box[2] + row % by;
+    const std::uint64_t at = this->DataOffset + (z * ny + y) * nx + box[0];
+    this->In.seekg(static_cast<std::streamoff>(at));
+    this->In.read(reinterpret_cast<char*>(out + r * run), static_cast<std::streamsize>(run));
+    if (!this->In || static_cast<std::uint64_t>(this->In.gcount()) != run)
+    {
+      error = "cannot read the voxel data (the file changed while read?)";
+      return false;
+    }
+    if (progress && (r + 1) % report == 0 && !progress(static_cast<double>(r + 1) / runs))
+    {
+      error = "aborted";
+      return false;
+    }
+  }
+  return true;
+}
+
+bool VolStream::Inflate(const int box[6], std::uint8_t* out, std::string& error,
+  const std::function<bool(double)>& progress)
+{
+  const std::uint64_t count = static_cast<std::uint64_t>(this->Head.Dims[0]) *
+    static_cast<std::uint64_t>(this->Head.Dims[1]) * static_cast<std::uint64_t>(this->Head.Dims[2]);
+  // Bounded buffers: the compressed input in 256 KiB reads, the decoded
+  // bytes in a 1 MiB window of which the box's bytes are copied out.
+  std::vector<std::uint8_t> input(std::size_t(256) << 10);
+  std::vector<std::uint8_t> window(
+    static_cast<std::size_t>(std::min<std::uint64_t>(count, std::uint64_t(1) << 20)));
+  this->In.clear();
+  this->In.seekg(static_cast<std::streamoff>(this->DataOffset));
+  std::uint64_t unread = this->DataSize;
+  z_stream zs;
+  std::memset(&zs, 0, sizeof(zs));
+  if (inflateInit(&zs) != Z_OK)
+  {
+    error = "cannot initialise zlib";
+    return false;
+  }
+  const std::uint64_t step =
+    std::max<std::uint64_t>(std::uint64_t(1) << 20, count / 64); // progress about 64 times
+  std::uint64_t produced = 0, nextReport = step;
+  std::uint8_t probe = 0; // one byte past the end: detects a stream that is too long
+  const char* failure = nullptr;
+  for (;;)
+  {
+    if (zs.avail_in == 0 && unread > 0)
+    {
+      const std::size_t want = static_cast<std::size_t>(std::min<std::uint64_t>(unread, input.size()));
+      this->In.read(reinterpret_cast<char*>(input.data()), static_cast<std::streamsize>(want));
+      if (static_cast<std::size_t>(this->In.gcount()) != want)
+      {
+        failure = "cannot read the zlib stream (the file changed while read?)";
+        break;
+      }
+      unread -= want;
+      zs.next_in = input.data();
+      zs.avail_in = static_cast<uInt>(want);
+    }
+    const bool probing = produced == count;
+    zs.next_out = probing ? &probe : window.data();
+    zs.avail_out =
+      probing ? 1 : static_cast<uInt>(std::min<std::uint64_t>(window.size(), count - produced));
+    const int status = inflate(&zs, Z_NO_FLUSH);
+    const std::uint64_t got = probing ? 1 - zs.avail_out : static_cast<std::uint64_t>(
+      std::min<std::uint64_t>(window.size(), count - produced) - zs.avail_out);
+    if (probing && got > 0)
+    {
+      failure = "zlib stream holds more voxels than the header's dimensions";
+      break;
+    }
+    if (!probing && got > 0)
+    {
+      CopySpanToBox(window.data(), produced, got, this->Head.Dims, box, out);
+      produced += got;
+      if (progress && produced >= nextReport && produced < count)
+      {
+        nextReport += step;
+        if (!progress(static_cast<double>(produced) / count))
+        {
+          failure = "aborted";
+          break;
+        }
+      }
+    }
+    if (status == Z_STREAM_END)
+    {
+      break;
+    }
+    if (status == Z_BUF_ERROR && zs.avail_in == 0 && unread == 0)
+    {
+      failure = "zlib stream is truncated";
+      break;
+    }
+    if (status != Z_OK && status != Z_BUF_ERROR)
+    {
+      failure = "zlib stream is corrupt";
+      break;
+    }
+  }
+  const bool trailing = zs.avail_in > 0 || unread > 0;
+  inflateEnd(&zs);
+  if (failure)
+  {
+    error = failure;
+    return false;
+  }
+  if (produced != count)
+  {
+    std::ostringstream msg;
+    msg << "zlib stream holds " << produced << " voxels, the header's dimensions need " << count;
+    error = msg.str();
+    return false;
+  }
+  if (trailing)
+  {
+    error = "unexpected bytes after the zlib stream";
     return false;
   }
   return true;

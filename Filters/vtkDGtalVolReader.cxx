@@ -84,8 +84,8 @@ int vtkDGtalVolReader::RequestInformation(
   outInfo->Set(vtkDataObject::SPACING(), spacing, 3);
   outInfo->Set(vtkDataObject::ORIGIN(), origin, 3);
   vtkDataObject::SetPointDataActiveScalarInfo(outInfo, VTK_UNSIGNED_CHAR, 1);
-  // Any sub-extent (a piece, with or without ghost layers): the whole file
-  // is decoded and the box copied out (RequestData).
+  // Any sub-extent (a piece, with or without ghost layers): RequestData
+  // reads only the box's voxels into the output (dg::VolStream).
   outInfo->Set(vtkAlgorithm::CAN_PRODUCE_SUB_EXTENT(), 1);
   return 1;
 }
@@ -103,33 +103,26 @@ int vtkDGtalVolReader::RequestData(
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   const auto abortGuard = this->Abort->Begin(this, outputVector);
   this->LastError.clear();
-  dg::VolHeader header;
-  std::vector<std::uint8_t> voxels;
-  const auto progress = [this](double f) {
-    this->UpdateProgress(0.05 + 0.75 * f);
-    return !this->GetAbortExecute();
-  };
-  if (!this->FileName ||
-    !dg::ReadVolFile(this->FileName, header, &voxels, this->LastError, progress))
-  {
-    if (this->GetAbortExecute())
-    {
-      this->LastError.clear();
-      return this->Abort->Abort(outputVector);
-    }
-    if (!this->FileName)
-    {
-      this->LastError = "no FileName set";
-    }
+  const auto fail = [&](const std::string& why) {
+    this->LastError = why;
     vtkErrorMacro("Cannot read VOL file: " << this->LastError);
     output->Initialize();
     return 0;
-  }
-  this->UpdateProgress(0.8);
-  if (this->GetAbortExecute())
+  };
+  if (!this->FileName)
   {
-    return this->Abort->Abort(outputVector);
+    return fail("no FileName set");
   }
+  // The header first (RequestInformation read it too, but the file may have
+  // changed since): it fixes the whole extent and refuses a data size that
+  // cannot match before anything is allocated.
+  dg::VolStream vol;
+  std::string error;
+  if (!vol.Open(this->FileName, error))
+  {
+    return fail(std::string(this->FileName) + ": " + error);
+  }
+  const dg::VolHeader& header = vol.Header();
   // The requested box (the whole volume unless a piece or a sub-extent was
   // asked for); the executive keeps it inside the whole extent.
   const int whole[6] = { 0, header.Dims[0] - 1, 0, header.Dims[1] - 1, 0, header.Dims[2] - 1 };
@@ -141,32 +134,36 @@ int vtkDGtalVolReader::RequestData(
   }
   if (!dg::ExtentEmpty(ext) && !dg::ExtentContains(whole, ext))
   {
-    this->LastError = "requested extent outside the file's extent (the file changed?)";
-    vtkErrorMacro("Cannot read VOL file: " << this->LastError);
-    output->Initialize();
-    return 0;
+    return fail("requested extent outside the file's extent (the file changed?)");
+  }
+  // Only the box is allocated; the voxels are read straight into it (a
+  // Version 3 stream through a bounded window): a piece holds its own
+  // voxels, never the whole volume, and a whole read holds one copy.
+  vtkNew<vtkUnsignedCharArray> values;
+  values->SetName("Value");
+  values->SetNumberOfValues(dg::ExtentEmpty(ext)
+      ? 0
+      : static_cast<vtkIdType>(ext[1] - ext[0] + 1) * (ext[3] - ext[2] + 1) * (ext[5] - ext[4] + 1));
+  const auto progress = [this](double f) {
+    this->UpdateProgress(0.05 + 0.9 * f);
+    return !this->GetAbortExecute();
+  };
+  if (!vol.ReadBox(ext, values->GetPointer(0), error, progress))
+  {
+    if (this->GetAbortExecute())
+    {
+      return this->Abort->Abort(outputVector);
+    }
+    return fail(std::string(this->FileName) + ": " + error);
+  }
+  if (this->GetAbortExecute())
+  {
+    return this->Abort->Abort(outputVector);
   }
   const double s = header.VoxelSize;
   output->SetExtent(ext);
   output->SetSpacing(s, s, s);
   output->SetOrigin(0, 0, 0);
-  vtkNew<vtkUnsignedCharArray> values;
-  values->SetName("Value");
-  if (dg::ExtentEmpty(ext))
-  {
-    values->SetNumberOfValues(0);
-  }
-  else if (std::equal(ext, ext + 6, whole))
-  {
-    values->SetNumberOfValues(static_cast<vtkIdType>(voxels.size()));
-    std::memcpy(values->GetPointer(0), voxels.data(), voxels.size());
-  }
-  else
-  {
-    values->SetNumberOfValues(static_cast<vtkIdType>(ext[1] - ext[0] + 1) *
-      (ext[3] - ext[2] + 1) * (ext[5] - ext[4] + 1));
-    dg::CopyExtent(voxels.data(), whole, ext, 1, values->GetPointer(0));
-  }
   output->GetPointData()->SetScalars(values);
   this->UpdateProgress(1.0);
   return 1;

@@ -12,17 +12,23 @@
  * Pieces and sub-extents (CAN_PRODUCE_SUB_EXTENT): the output is exactly
  * the requested UPDATE_EXTENT, with the whole read's origin and spacing
  * (VTK keeps the origin of a sub-extent: the extent carries the offset).
- * The format has no index, and a Version 3 file is one zlib stream, so each
- * request decodes the whole file and copies the box out: a piece costs the
- * time of a full read and holds the whole volume (1 byte a voxel) while it
- * runs, besides its own box (fandisk-256, one piece of 2: see
- * docs/pieces-readers.md). A piece request (UpdatePiece(p, n, g), or
+ * Only the box is read into memory (dg::VolStream), straight into the
+ * output's scalars: Version 2 seeks to the box's rows; Version 3, one zlib
+ * stream without an index, is inflated from its start through a bounded
+ * window (256 KiB of input, 1 MiB of output) of which the box's bytes are
+ * kept. A piece's peak memory is its box plus about 1.3 MiB, not the whole
+ * volume; its time is that of inflating the whole stream (inflated to its
+ * end, so that a corrupt file fails in every piece as in the whole read;
+ * in a distributed run the last piece needs the whole stream anyway), less
+ * the copy (figures: docs/pieces-readers.md). A whole read holds one copy
+ * of the volume. A piece request (UpdatePiece(p, n, g), or
  * ParaView's per-rank request) is turned into the extent by VTK's executive
  * (vtkExtentTranslator, block mode, by cells: neighbouring pieces share one
  * layer of voxels, unlike dg::PieceExtent), grown by the g ghost layers
  * asked for; the executive then marks those layers in a point and a cell
  * array vtkGhostType (DUPLICATEPOINT, DUPLICATECELL), as for any structured
- * source. An empty extent gives an empty image, no error.
+ * source (2 more bytes per voxel of the piece). An empty extent gives an
+ * empty image, no error (the file is still checked).
  *
  * A missing or truncated file, a bad header, dimensions that disagree with
  * the data or a corrupt zlib stream give an error (vtkErrorMacro, also

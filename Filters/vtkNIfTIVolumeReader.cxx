@@ -2,6 +2,7 @@
 
 #include "dgPieces.h"
 
+#include <vtkByteSwap.h>
 #include <vtkCommand.h>
 #include <vtkDataArray.h>
 #include <vtkExecutive.h>
@@ -27,6 +28,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <limits>
 #include <sstream>
@@ -282,7 +284,129 @@ std::string CheckDataSize(const char* fileName, vtkNIFTIImageReader* r)
   }
   return "";
 }
+
+// Why a piece request cannot be read in part, or empty when it can. The
+// part read covers the single-file NIfTI layouts (magic n+1 / n+2 in a
+// .nii or .nii.gz): voxels packed x fastest from vox_offset, one volume
+// after another. The rest falls back to vtkNIFTIImageReader's whole read
+// and a cropped copy, as before: an Analyze or .hdr/.img pair (the voxels
+// in another file, found by VTK's own name rules) and a dim[5] > 1 (vector
+// components stored as whole volumes one after the other: a .nii.gz would
+// have to be inflated once per component or held whole).
+std::string WholeReadReason(const char* fileName, vtkNIFTIImageReader* r)
+{
+  vtkNIFTIImageHeader* h = r->GetNIFTIHeader();
+  const std::string magic = h && h->GetMagic() ? h->GetMagic() : "";
+  const std::string lower = vtksys::SystemTools::LowerCase(fileName);
+  const auto endsWith = [&](const char* ext) {
+    const std::size_t n = std::strlen(ext);
+    return lower.size() >= n && lower.compare(lower.size() - n, n, ext) == 0;
+  };
+  if (magic.size() != 3 || magic[0] != 'n' || magic[1] != '+' ||
+    !(endsWith(".nii") || endsWith(".nii.gz")))
+    return "not a single-file NIfTI";
+  if (h->GetDim(0) >= 5 && h->GetDim(5) != 1)
+    return "vector components stored as separate volumes";
+  return "";
 }
+
+// Reads the box ext of the first volume of a single-file NIfTI into a new
+// array, exactly as vtkNIFTIImageReader's RequestData would for the whole
+// extent followed by a crop (VTK 9.2, IO/Image/vtkNIFTIImageReader.cxx):
+// - the file through zlib's gzFile, as VTK opens it: a .nii.gz inflates
+//   as it is read, a plain file (or a .nii.gz that is not compressed) is
+//   read directly and gzseek seeks;
+// - the voxels at HeaderSize (vox_offset) + ((k Y + j) X + i) times the
+//   voxel's bytes (all its components, packed), the first time point only;
+// - bytes swapped per scalar when the header is of the other byte order
+//   (GetSwapBytes);
+// - no scl_slope / scl_inter: VTK's reader passes them on
+//   (GetRescaleSlope) and leaves the values as stored;
+// - qfac < 0 (GetQFac): VTK reverses the slices, output slice K is file
+//   slice Z - 1 - K.
+// The file is read in increasing offsets (a gzip stream cannot go back),
+// row by row of the box straight into the output; in a .nii.gz the bytes
+// before, between and after the rows are inflated and dropped through
+// zlib's buffer. A .nii.gz is inflated to the end of the first volume
+// whatever the box, as the whole read does, so that all pieces of a file
+// fail or succeed together. Empty on success, else the problem.
+std::string ReadBox(const std::string& fileName, vtkNIFTIImageReader* r, const int whole[6],
+  const int ext[6], vtkSmartPointer<vtkDataArray>& array,
+  const std::function<bool(double)>& progress)
+{
+  const int scalarType = r->GetDataScalarType();
+  const int components = r->GetNumberOfScalarComponents();
+  array = vtk::TakeSmartPointer(vtkDataArray::CreateDataArray(scalarType));
+  if (!array || components < 1)
+    return "unsupported voxel data type";
+  array->SetName("NIFTI");
+  array->SetNumberOfComponents(components);
+  const bool empty = dg::ExtentEmpty(ext);
+  const vtkIdType bx = empty ? 0 : ext[1] - ext[0] + 1, by = empty ? 0 : ext[3] - ext[2] + 1,
+                  bz = empty ? 0 : ext[5] - ext[4] + 1;
+  array->SetNumberOfTuples(bx * by * bz);
+  const int scalarSize = array->GetDataTypeSize();
+  const std::int64_t voxel = static_cast<std::int64_t>(scalarSize) * components;
+  const std::int64_t nx = whole[1] - whole[0] + 1, ny = whole[3] - whole[2] + 1,
+                     nz = whole[5] - whole[4] + 1;
+  const std::int64_t row = voxel * nx, slice = row * ny;
+  const std::int64_t start = static_cast<std::int64_t>(r->GetHeaderSize());
+  const std::size_t boxRow = static_cast<std::size_t>(voxel * bx);
+  const bool swap = r->GetSwapBytes() && scalarSize > 1;
+  const bool reversed = r->GetQFac() < 0;
+  // The file's slices of the box, in file order.
+  const int first = empty ? 0 : reversed ? static_cast<int>(nz - 1 - ext[5]) : ext[4];
+  const int last = empty ? -1 : reversed ? static_cast<int>(nz - 1 - ext[4]) : ext[5];
+
+  gzFile f = gzopen(fileName.c_str(), "rb");
+  if (!f)
+    return "cannot open the file";
+  // Larger than zlib's 8 KiB default: fewer reads and inflate calls
+  // (zlib then holds 256 KiB of input and 512 KiB of output).
+  gzbuffer(f, 256 * 1024);
+  const auto problem = [&f](const char* what) -> std::string {
+    int code = Z_OK;
+    const char* message = gzerror(f, &code);
+    std::string text = gzeof(f) ? "NIFTI file is truncated, some data is missing."
+                                : std::string(what) + (code != Z_OK && message ? std::string(": ") + message : "");
+    gzclose(f);
+    return text;
+  };
+  auto* out = static_cast<unsigned char*>(array->GetVoidPointer(0));
+  for (int k = first; k <= last; ++k)
+  {
+    const int outK = reversed ? static_cast<int>(nz - 1 - k) : k;
+    unsigned char* dst = out + static_cast<std::size_t>(outK - ext[4]) * by * boxRow;
+    for (int j = ext[2]; j <= ext[3]; ++j, dst += boxRow)
+    {
+      const std::int64_t at = start + k * slice + j * row + ext[0] * voxel;
+      if (gzseek(f, static_cast<z_off_t>(at), SEEK_SET) != static_cast<z_off_t>(at))
+        return problem("cannot seek in the file");
+      if (gzread(f, dst, static_cast<unsigned>(boxRow)) != static_cast<int>(boxRow))
+        return problem("cannot read the voxels");
+      if (swap)
+        vtkByteSwap::SwapVoidRange(dst, static_cast<vtkIdType>(bx) * components, scalarSize);
+    }
+    if (progress && !progress(static_cast<double>(k - first + 1) / (last - first + 1)))
+    {
+      gzclose(f);
+      return "aborted";
+    }
+  }
+  // The last byte of the first volume, when compressed: the rest of the
+  // stream up to it inflates (and is checked) as in the whole read.
+  if (!gzdirect(f))
+  {
+    const std::int64_t end = start + nz * slice - 1;
+    unsigned char byte;
+    if (gzseek(f, static_cast<z_off_t>(end), SEEK_SET) != static_cast<z_off_t>(end) ||
+      gzread(f, &byte, 1) != 1)
+      return problem("cannot read the voxels");
+  }
+  gzclose(f);
+  return "";
+}
+} // namespace
 
 bool vtkNIfTIVolumeReader::Open(vtkNIFTIImageReader* r, bool withData, std::string& error)
 {
@@ -444,8 +568,8 @@ int vtkNIfTIVolumeReader::RequestInformation(
   out->Set(vtkDataObject::SPACING(), spacing, 3);
   out->Set(vtkDataObject::ORIGIN(), origin, 3);
   out->Set(vtkDataObject::DIRECTION(), direction, 9);
-  // Any sub-extent: the whole volume is read and the box cropped out
-  // (RequestData).
+  // Any sub-extent: RequestData reads only the box's voxels (ReadBox), or
+  // for the layouts it does not cover the whole volume, cropped.
   out->Set(vtkAlgorithm::CAN_PRODUCE_SUB_EXTENT(), 1);
   if (vtkInformation* scalar = vtkDataObject::GetActiveFieldInformation(
         in, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS))
@@ -485,6 +609,68 @@ int vtkNIfTIVolumeReader::RequestData(
   } release{ r };
   double origin[3], spacing[3], direction[9];
   std::string error;
+  // The requested box against the whole extent of RequestInformation's
+  // header (the same reader: its information is current).
+  int whole[6] = { 0, -1, 0, -1, 0, -1 }, ext[6];
+  r->GetOutputInformation(0)->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
+  std::copy(whole, whole + 6, ext);
+  if (outInfo && outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
+  {
+    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), ext);
+  }
+  if (!dg::ExtentEmpty(ext) && !dg::ExtentContains(whole, ext))
+  {
+    vtkErrorMacro(<< this->FileName
+                  << ": requested extent outside the file's extent (the file changed?)");
+    output->Initialize();
+    return 0;
+  }
+  if (!std::equal(ext, ext + 6, whole) && WholeReadReason(this->FileName, r).empty())
+  {
+    // A piece: the header's checks again (HeaderProblem, VTK's own; the
+    // header is not re-read when nothing changed), then only the box's
+    // voxels, read from the file into the output.
+    if (!this->Open(r, false, error) ||
+      !this->Geometry(r, false, origin, spacing, direction, error))
+    {
+      vtkErrorMacro(<< error);
+      output->Initialize();
+      return 0;
+    }
+    r->GetOutputInformation(0)->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
+    if (!dg::ExtentContains(whole, ext))
+    {
+      vtkErrorMacro(<< this->FileName
+                    << ": requested extent outside the file's extent (the file changed?)");
+      output->Initialize();
+      return 0;
+    }
+    vtkSmartPointer<vtkDataArray> values;
+    const auto progress = [this](double f) {
+      this->UpdateProgress(f);
+      return !this->GetAbortExecute();
+    };
+    const std::string problem =
+      ReadBox(HeaderFile(this->FileName), r, whole, ext, values, progress);
+    if (!problem.empty())
+    {
+      output->Initialize();
+      if (problem != "aborted")
+      {
+        vtkErrorMacro(<< this->FileName << ": " << problem);
+      }
+      return 0;
+    }
+    output->SetExtent(ext);
+    output->GetPointData()->SetScalars(values);
+    output->SetOrigin(origin);
+    output->SetSpacing(spacing);
+    output->SetDirectionMatrix(direction);
+    return 1;
+  }
+  // The whole extent (one copy: the output shares VTK's array), or a part
+  // that cannot be read alone (WholeReadReason): VTK's whole read, then the
+  // box copied out.
   if (!this->Open(r, true, error) || !this->Geometry(r, false, origin, spacing, direction, error))
   {
     vtkErrorMacro(<< error);
@@ -500,13 +686,7 @@ int vtkNIfTIVolumeReader::RequestData(
     output->Initialize();
     return 0;
   }
-  int whole[6], ext[6];
   image->GetExtent(whole);
-  std::copy(whole, whole + 6, ext);
-  if (outInfo && outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
-  {
-    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), ext);
-  }
   if (!dg::ExtentEmpty(ext) && !dg::ExtentContains(whole, ext))
   {
     vtkErrorMacro(<< this->FileName

@@ -29,18 +29,28 @@
  *
  * Pieces and sub-extents (CAN_PRODUCE_SUB_EXTENT): the output is exactly
  * the requested UPDATE_EXTENT with the whole read's origin, spacing and
- * direction (the extent carries the offset). vtkNIFTIImageReader reads
- * whole volumes only (a .nii.gz is one gzip stream), so each request reads
- * the whole volume and copies the box out (dg::CopyExtent): a piece costs
- * the time of a full read and holds the whole volume, at its voxel type,
- * while it runs, besides its own box (fandisk-256 as .nii.gz, one piece
- * of 2: docs/pieces-readers.md). A piece request is turned into the extent by VTK's
- * executive (vtkExtentTranslator, block mode, by cells: neighbouring pieces
- * share one layer of voxels), grown by the ghost layers asked for, which the
- * executive marks in vtkGhostType (point and cell arrays) as for any
- * structured source. The header is read once per RequestInformation, and
- * RequestData reads the voxels through the same vtkNIFTIImageReader (two
- * opens of the file per update instead of seven before).
+ * direction (the extent carries the offset). The whole extent is read by
+ * vtkNIFTIImageReader (one copy: the output shares its array). A smaller
+ * box of a single-file NIfTI (.nii, .nii.gz) is read by this class from
+ * the file, into the output's scalars only: a .nii by seeking to each row
+ * of the box, a .nii.gz by inflating the gzip stream (zlib's gzread, with
+ * a 256 KiB buffer) and keeping the box's rows. The voxels are exactly the
+ * box of VTK's whole read: its datatypes, byte swapping, slice reversal
+ * for qfac -1 (or an sform with a reflection and no qform), first time
+ * point of a 4-D file, and scl_slope / scl_inter left as stored (VTK's
+ * reader does not apply them either). A .nii.gz piece is inflated up to
+ * the end of the first volume whatever the box, so that a corrupt or
+ * truncated stream fails in every piece as in the whole read: its time is
+ * that of the whole inflate, its peak memory its box plus about 1 MiB
+ * (figures: docs/pieces-readers.md). Analyze or .hdr/.img pairs and files
+ * with vector components (dim[5] > 1, stored as one volume per component)
+ * are read whole and the box copied out, as before. A piece request is
+ * turned into the extent by VTK's executive (vtkExtentTranslator, block
+ * mode, by cells: neighbouring pieces share one layer of voxels), grown by
+ * the ghost layers asked for, which the executive marks in vtkGhostType
+ * (point and cell arrays) as for any structured source. The header is read
+ * once per RequestInformation, by a vtkNIFTIImageReader kept for
+ * RequestData.
  */
 #ifndef vtkNIfTIVolumeReader_h
 #define vtkNIfTIVolumeReader_h

@@ -22,6 +22,11 @@
 #include <cstdio>
 #include <fstream>
 #include <random>
+#include <array>
+#include <algorithm>
+#include "dgPieces.h"
+
+#include <vtk_zlib.h>
 
 namespace
 {
@@ -46,14 +51,24 @@ void WriteBytes(const std::string& path, const std::vector<std::uint8_t>& bytes)
 }
 
 // Reads through the VTK class, expecting failure: an error and no voxels.
-void ExpectReaderFails(const std::string& path, const char* what)
+// With a box, only that box is asked for: a piece must fail wherever the
+// damage lies, as the whole read does (the stream is inflated to its end).
+void ExpectReaderFails(const std::string& path, const char* what, const int* box = nullptr)
 {
   vtkNew<vtkDGtalVolReader> reader;
   vtkNew<dgtest::ErrorObserver> obs;
   obs->Observe(reader);
   obs->Observe(reader->GetExecutive());
   reader->SetFileName(path.c_str());
-  reader->Update();
+  if (box)
+  {
+    reader->UpdateInformation();
+    reader->UpdateExtent(const_cast<int*>(box));
+  }
+  else
+  {
+    reader->Update();
+  }
   EXPECT_GE(obs->Errors, 1) << what;
   EXPECT_EQ(reader->GetOutput()->GetNumberOfPoints() > 0 &&
       reader->GetOutput()->GetPointData()->GetScalars() != nullptr,
@@ -290,6 +305,9 @@ TEST(VolReader, CorruptFilesFailCleanly)
       const std::string path = TempPath("trunc.vol");
       WriteBytes(path, t);
       ExpectReaderFails(path, ("truncated at " + std::to_string(cut)).c_str());
+      // The first slice only: its bytes come first in the file.
+      const int firstSlice[6] = { 0, 5, 0, 5, 0, 0 };
+      ExpectReaderFails(path, ("truncated at " + std::to_string(cut) + ", first slice").c_str(), firstSlice);
     }
   }
   // Bad header lines.
@@ -343,6 +361,43 @@ TEST(VolReader, CorruptFilesFailCleanly)
   const std::string path = TempPath("flip.vol");
   WriteBytes(path, c);
   ExpectReaderFails(path, "flipped zlib header byte");
+  // Bytes after the stream, and a stream one voxel too long: found only
+  // past the last slice, so the first slice's piece must still see them.
+  const int firstSlice[6] = { 0, 5, 0, 5, 0, 0 };
+  std::vector<std::uint8_t> trailing = v3;
+  trailing.push_back(0);
+  WriteBytes(path, trailing);
+  ExpectReaderFails(path, "a byte after the zlib stream, whole read");
+  ExpectReaderFails(path, "a byte after the zlib stream, first slice", firstSlice);
+  {
+    std::vector<std::uint8_t> extra(voxels);
+    extra.push_back(7);
+    uLongf bound = compressBound(static_cast<uLong>(extra.size()));
+    std::vector<std::uint8_t> z(bound);
+    ASSERT_EQ(compress2(z.data(), &bound, extra.data(), static_cast<uLong>(extra.size()), 6), Z_OK);
+    const std::string head = "X: 6\nY: 6\nZ: 6\nVersion: 3\n.\n";
+    std::vector<std::uint8_t> longer(head.begin(), head.end());
+    longer.insert(longer.end(), z.begin(), z.begin() + bound);
+    WriteBytes(path, longer);
+    ExpectReaderFails(path, "a stream one voxel too long, whole read");
+    ExpectReaderFails(path, "a stream one voxel too long, first slice", firstSlice);
+  }
+  // Every byte-flipped stream that the whole decode refuses, the first
+  // slice refuses too.
+  for (std::size_t pos = z0; pos < v3.size(); pos += 7)
+  {
+    std::vector<std::uint8_t> flipped = v3;
+    flipped[pos] ^= 0x5A;
+    dg::VolHeader h;
+    std::vector<std::uint8_t> out;
+    std::string err;
+    if (!dg::ParseVol(flipped.data(), flipped.size(), h, &out, err))
+    {
+      WriteBytes(path, flipped);
+      ExpectReaderFails(path, ("flipped byte " + std::to_string(pos) + ", first slice").c_str(),
+        firstSlice);
+    }
+  }
   ExpectReaderFails(TempPath("does-not-exist.vol"), "missing file");
 
   // Found by fuzzing: a tiny zlib stream under a header promising billions
@@ -356,4 +411,56 @@ TEST(VolReader, CorruptFilesFailCleanly)
   EXPECT_FALSE(dg::ParseVol(hugeBytes.data(), hugeBytes.size(), h, &out, err));
   EXPECT_NE(err.find("cannot hold"), std::string::npos) << err;
   EXPECT_LT(out.capacity(), std::size_t(1) << 20);
+}
+
+// dg::VolStream against the whole decode: every box of a volume larger than
+// the 1 MiB inflate window (rows cut by the window's ends), of both
+// versions, and of narrow shapes (one-voxel rows, one-row slices), equals
+// the box cut from ParseVol's volume; the row copy itself on random splits
+// of the stream.
+TEST(VolReader, StreamedBoxesEqualTheWholeDecode)
+{
+  const std::vector<std::array<int, 3>> shapes = { { 131, 97, 101 }, { 1, 7, 300 }, { 300, 1, 5 },
+    { 1, 1, 1 } };
+  for (const auto& shape : shapes)
+  {
+    const int dims[3] = { shape[0], shape[1], shape[2] };
+    const auto voxels = RandomVolume(dims, 17);
+    const int X = dims[0] - 1, Y = dims[1] - 1, Z = dims[2] - 1;
+    const std::vector<std::array<int, 6>> boxes = { { 0, X, 0, Y, 0, Z }, { 0, X, 0, Y, Z / 2, Z },
+      { X / 3, X, Y / 4, Y / 2, Z / 3, std::min(Z, Z / 3 + 2) }, { X, X, Y, Y, Z, Z }, { 0, 0, 0, 0, 0, 0 },
+      { 0, X, Y / 2, Y / 2, 0, Z }, { X / 2, X / 2, 0, Y, 0, Z } };
+    for (int version : { 2, 3 })
+    {
+      const std::string path = TempPath("stream" + std::to_string(version) + ".vol");
+      std::string error;
+      ASSERT_TRUE(dg::WriteVolFile(path, dims, voxels.data(), version, error)) << error;
+      for (const auto& b : boxes)
+      {
+        const std::string what = std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "x" +
+          std::to_string(dims[2]) + " version " + std::to_string(version) + " box " +
+          std::to_string(b[0]) + ".." + std::to_string(b[1]) + " " + std::to_string(b[2]) + ".." +
+          std::to_string(b[3]) + " " + std::to_string(b[4]) + ".." + std::to_string(b[5]);
+        const int whole[6] = { 0, X, 0, Y, 0, Z };
+        std::vector<std::uint8_t> expected(
+          std::size_t(b[1] - b[0] + 1) * (b[3] - b[2] + 1) * (b[5] - b[4] + 1));
+        dg::CopyExtent(voxels.data(), whole, b.data(), 1, expected.data());
+        dg::VolStream vol;
+        ASSERT_TRUE(vol.Open(path, error)) << what << ": " << error;
+        std::vector<std::uint8_t> got(expected.size(), 0xEE);
+        ASSERT_TRUE(vol.ReadBox(b.data(), got.data(), error)) << what << ": " << error;
+        EXPECT_EQ(got, expected) << what;
+        // The same box, the stream handed over in random spans.
+        std::mt19937 rng(b[0] + 31 * b[5]);
+        std::vector<std::uint8_t> spans(expected.size(), 0xEE);
+        for (std::size_t at = 0; at < voxels.size();)
+        {
+          const std::size_t n = std::min<std::size_t>(voxels.size() - at, 1 + rng() % 5000);
+          dg::CopySpanToBox(voxels.data() + at, at, n, dims, b.data(), spans.data());
+          at += n;
+        }
+        EXPECT_EQ(spans, expected) << what << " (random spans)";
+      }
+    }
+  }
 }

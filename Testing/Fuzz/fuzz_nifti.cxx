@@ -20,7 +20,10 @@
 // - without an error: a non-empty image whose scalars cover its points,
 //   finite origin, spacing > 0, a direction of unit columns at right angles
 //   within the shear tolerance the reader accepts (|cos| <= 1e-4);
-// - RAS is LPS with x and y negated (same outcome, same spacing).
+// - RAS is LPS with x and y negated (same outcome, same spacing);
+// - pieces 0 and 1 of 2 and the first slice (read from the file by the
+//   reader's own part read, not VTK's whole read) succeed when the whole
+//   read does and hold its voxels, byte for byte, with its geometry.
 #include "vtkNIfTIVolumeReader.h"
 #include "dgFuzzSupport.h"
 
@@ -38,6 +41,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <string>
 #include <unistd.h>
 
@@ -108,6 +112,56 @@ Result Read(int system)
   dgfuzz::CheckGridGeometry(r.Origin, r.Spacing, r.Direction);
   return r;
 }
+// The part reads against the whole read (issue 38's ReadBox).
+void ComparePieces()
+{
+  vtkNew<vtkNIfTIVolumeReader> whole;
+  whole->SetFileName(Path.c_str());
+  whole->Update();
+  vtkImageData* w = whole->GetOutput();
+  vtkDataArray* ws = w->GetPointData()->GetScalars();
+  int we[6];
+  w->GetExtent(we);
+  const int slice[6] = { we[0], we[1], we[2], we[3], we[4], we[4] };
+  for (int request = 0; request < 3; ++request)
+  {
+    vtkNew<Collect> collect;
+    vtkNew<vtkNIfTIVolumeReader> reader;
+    reader->AddObserver(vtkCommand::ErrorEvent, collect);
+    reader->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, collect);
+    reader->SetFileName(Path.c_str());
+    if (request < 2)
+      reader->UpdatePiece(request, 2, 0);
+    else
+    {
+      reader->UpdateInformation();
+      reader->UpdateExtent(const_cast<int*>(slice));
+    }
+    vtkImageData* p = reader->GetOutput();
+    vtkDataArray* ps = p->GetPointData()->GetScalars();
+    if (collect->Errors || !ps || ps->GetDataType() != ws->GetDataType() ||
+      ps->GetNumberOfComponents() != ws->GetNumberOfComponents())
+      std::abort(); // the whole read succeeded: so must its parts
+    int e[6];
+    p->GetExtent(e);
+    const int bytes = ws->GetDataTypeSize() * ws->GetNumberOfComponents();
+    for (int k = e[4]; k <= e[5]; ++k)
+      for (int j = e[2]; j <= e[3]; ++j)
+        for (int i = e[0]; i <= e[1]; ++i)
+        {
+          int ijk[3] = { i, j, k };
+          const auto* a = static_cast<const unsigned char*>(ws->GetVoidPointer(0)) +
+            w->ComputePointId(ijk) * bytes;
+          const auto* b = static_cast<const unsigned char*>(ps->GetVoidPointer(0)) +
+            p->ComputePointId(ijk) * bytes;
+          if (std::memcmp(a, b, bytes) != 0)
+            std::abort();
+        }
+    for (int a = 0; a < 3; ++a)
+      if (p->GetOrigin()[a] != w->GetOrigin()[a] || p->GetSpacing()[a] != w->GetSpacing()[a])
+        std::abort();
+  }
+}
 } // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***)
@@ -152,6 +206,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (ras.Direction[3 * r + a] != sign * lps.Direction[3 * r + a])
           std::abort();
     }
+    ComparePieces();
   }
   return 0;
 }
