@@ -433,6 +433,13 @@ bool VolStream::ReadBox(const int box[6], std::uint8_t* out, std::string& error,
       return false;
     }
   }
+  // One report before any byte: a small volume decodes in one window, and
+  // a caller must still be able to abort (and see progress) while it reads.
+  if (progress && !progress(0.0))
+  {
+    error = "aborted";
+    return false;
+  }
   return this->Head.Version == 2 ? this->ReadRaw(box, out, error, progress)
                                  : this->Inflate(box, out, error, progress);
 }
