@@ -30,6 +30,15 @@ vtkMultiProcessController* PieceController(vtkInformation* outInfo)
   return c;
 }
 
+vtkDataArray* GlobalIdArray(vtkDataSetAttributes* a, long long n)
+{
+  vtkDataArray* ids = a->GetGlobalIds() ? a->GetGlobalIds() : a->GetArray("GlobalIds");
+  if (!ids || ids->GetNumberOfComponents() != 1 || ids->GetNumberOfTuples() != n ||
+    ids->GetDataType() == VTK_FLOAT || ids->GetDataType() == VTK_DOUBLE)
+    return nullptr;
+  return ids;
+}
+
 bool AllPiecesOk(vtkInformation* outInfo, bool ok)
 {
   vtkMultiProcessController* c = PieceController(outInfo);

@@ -11,6 +11,8 @@
 
 #include <cstddef>
 
+class vtkDataArray;
+class vtkDataSetAttributes;
 class vtkImageData;
 class vtkInformation;
 class vtkMultiProcessController;
@@ -25,6 +27,11 @@ vtkMultiProcessController* PieceController(vtkInformation* outInfo);
 /// In a distributed execution, true on every process when `ok` is true on
 /// every process (a collective call); `ok` as it is otherwise.
 bool AllPiecesOk(vtkInformation* outInfo, bool ok);
+
+/// The global ids of `n` cells or points: the attribute's global ids, else
+/// an array named "GlobalIds"; null when missing or not one integer per
+/// tuple (what every piece-aware filter matches pieces by).
+vtkDataArray* GlobalIdArray(vtkDataSetAttributes* a, long long n);
 
 /// The own voxel extent of `piece` of `numberOfPieces` in `whole` (VTK's
 /// vtkExtentTranslator in block mode, without ghost levels). Returns false

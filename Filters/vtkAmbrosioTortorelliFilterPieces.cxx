@@ -4,6 +4,8 @@
 // execution only, the one-process one is in vtkAmbrosioTortorelliFilter.cxx.
 #include "vtkAmbrosioTortorelliFilter.h"
 
+#include "dgPieces.h"
+
 #include "dgATHalo.h"
 #include "dgATOperators.h"
 #include "dgATMetric.h"
@@ -28,23 +30,6 @@
 
 namespace
 {
-// Global ids as int64: the attribute's global ids, else an array named
-// "GlobalIds"; null when missing or not one integer per tuple.
-vtkDataArray* GlobalIdArray(vtkDataSetAttributes* a, vtkIdType n)
-{
-  vtkDataArray* ids = a->GetGlobalIds();
-  if (!ids)
-  {
-    ids = a->GetArray("GlobalIds");
-  }
-  if (!ids || ids->GetNumberOfComponents() != 1 || ids->GetNumberOfTuples() != n ||
-    ids->GetDataType() == VTK_FLOAT || ids->GetDataType() == VTK_DOUBLE)
-  {
-    return nullptr;
-  }
-  return ids;
-}
-
 std::vector<std::int64_t> ToInt64(vtkDataArray* a)
 {
   std::vector<std::int64_t> out(a->GetNumberOfTuples());
@@ -87,8 +72,8 @@ int vtkAmbrosioTortorelliFilter::RequestDataPieces(vtkMultiProcessController* co
     field = input->GetCellData()->GetNormals();
     association = vtkDataObject::FIELD_ASSOCIATION_CELLS;
   }
-  vtkDataArray* cellIds = GlobalIdArray(input->GetCellData(), nCells);
-  vtkDataArray* pointIds = GlobalIdArray(input->GetPointData(), nPoints);
+  vtkDataArray* cellIds = dg::GlobalIdArray(input->GetCellData(), nCells);
+  vtkDataArray* pointIds = dg::GlobalIdArray(input->GetPointData(), nPoints);
   vtkDataArray* ghostArray = input->GetCellData()->GetArray(vtkDataSetAttributes::GhostArrayName());
   if (nCells != nFaces)
   {

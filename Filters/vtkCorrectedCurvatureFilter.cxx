@@ -79,17 +79,6 @@ vtkDoubleArray* CellArray(const char* name, int components, vtkIdType n)
 }
 } // namespace
 
-namespace
-{
-vtkDataArray* GlobalIds(vtkDataSetAttributes* a, vtkIdType n)
-{
-  vtkDataArray* ids = a->GetGlobalIds() ? a->GetGlobalIds() : a->GetArray("GlobalIds");
-  if (!ids || ids->GetNumberOfComponents() != 1 || ids->GetNumberOfTuples() != n ||
-    ids->GetDataType() == VTK_FLOAT || ids->GetDataType() == VTK_DOUBLE)
-    return nullptr;
-  return ids;
-}
-} // namespace
 
 int vtkCorrectedCurvatureFilter::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
@@ -171,8 +160,8 @@ int vtkCorrectedCurvatureFilter::RequestData(
       problem = std::string("The region array '") + (regions->GetName() ? regions->GetName() : "") +
         "' must be cell data with one component.";
   }
-  vtkDataArray* cellIds = controller ? GlobalIds(input->GetCellData(), nCells) : nullptr;
-  vtkDataArray* pointIds = controller ? GlobalIds(input->GetPointData(), nPoints) : nullptr;
+  vtkDataArray* cellIds = controller ? dg::GlobalIdArray(input->GetCellData(), nCells) : nullptr;
+  vtkDataArray* pointIds = controller ? dg::GlobalIdArray(input->GetPointData(), nPoints) : nullptr;
   if (problem.empty() && controller && nFaces > 0 && (!cellIds || !pointIds))
     problem = "A distributed run needs cell and point global ids (the 'GlobalIds' arrays of "
               "vtkDigitalSurfaceFilter) to match faces and points across pieces.";

@@ -92,14 +92,6 @@ int RegionOf(double region, double inside, double outside)
   return static_cast<int>(h ^ (h >> 32));
 }
 
-vtkDataArray* GlobalIds(vtkDataSetAttributes* a, vtkIdType n)
-{
-  vtkDataArray* ids = a->GetGlobalIds() ? a->GetGlobalIds() : a->GetArray("GlobalIds");
-  if (!ids || ids->GetNumberOfComponents() != 1 || ids->GetNumberOfTuples() != n ||
-    ids->GetDataType() == VTK_FLOAT || ids->GetDataType() == VTK_DOUBLE)
-    return nullptr;
-  return ids;
-}
 
 // The surface the solve sees: one process's whole input, or a piece's own
 // faces followed by the faces around its points that other pieces own, in
@@ -202,8 +194,8 @@ int vtkPiecewiseSmoothMeshFilter::RequestData(
           "' must be cell data with one component.";
     }
   }
-  vtkDataArray* cellIds = controller ? GlobalIds(input->GetCellData(), nCells) : nullptr;
-  vtkDataArray* pointIds = GlobalIds(input->GetPointData(), nPoints);
+  vtkDataArray* cellIds = controller ? dg::GlobalIdArray(input->GetCellData(), nCells) : nullptr;
+  vtkDataArray* pointIds = dg::GlobalIdArray(input->GetPointData(), nPoints);
   if (problem.empty() && controller && nFaces > 0 && (!cellIds || !pointIds))
     problem = "A distributed run needs cell and point global ids (the 'GlobalIds' arrays of "
               "vtkDigitalSurfaceFilter) to match faces and points across pieces.";

@@ -9,6 +9,8 @@
 // scaling.
 #include "vtkSharpFeaturesFilter.h"
 
+#include "dgPieces.h"
+
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkCommunicator.h>
@@ -37,14 +39,6 @@
 
 namespace
 {
-vtkDataArray* GlobalIdArray(vtkDataSetAttributes* a, vtkIdType n)
-{
-  vtkDataArray* ids = a->GetGlobalIds() ? a->GetGlobalIds() : a->GetArray("GlobalIds");
-  if (!ids || ids->GetNumberOfComponents() != 1 || ids->GetNumberOfTuples() != n ||
-    ids->GetDataType() == VTK_FLOAT || ids->GetDataType() == VTK_DOUBLE)
-    return nullptr;
-  return ids;
-}
 
 // The configured name of input array `idx` ("" when ParaView has not set one).
 std::string SelectedName(vtkInformation* info)
@@ -94,8 +88,8 @@ int vtkSharpFeaturesFilter::RequestDataPieces(vtkMultiProcessController* control
       break; // a named input field is the only one Execute reads
   }
   vtkDataArray* inputField = inputIndex >= 0 ? input->GetCellData()->GetArray(inputNames[inputIndex]) : nullptr;
-  vtkDataArray* cellIds = GlobalIdArray(input->GetCellData(), nCells);
-  vtkDataArray* pointIds = GlobalIdArray(input->GetPointData(), nPoints);
+  vtkDataArray* cellIds = dg::GlobalIdArray(input->GetCellData(), nCells);
+  vtkDataArray* pointIds = dg::GlobalIdArray(input->GetPointData(), nPoints);
   vtkDataArray* ghosts = input->GetCellData()->GetArray(vtkDataSetAttributes::GhostArrayName());
   if (ghosts && ghosts->GetNumberOfTuples() != nCells)
     ghosts = nullptr;

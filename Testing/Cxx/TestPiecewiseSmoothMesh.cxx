@@ -379,8 +379,9 @@ TEST(PiecewiseSmoothMesh, DihedralAngles)
       const V3 t = shape->Normal(centre);
       const std::array<long, 3> key = { std::lround(100 * t[0]), std::lround(100 * t[1]),
         std::lround(100 * t[2]) };
-      sum[key] += a;
-      truth[key] += a.norm() * t;
+      // (Eigen's vectors start uninitialised: a new key starts at zero.)
+      sum.try_emplace(key, V3::Zero()).first->second += a;
+      truth.try_emplace(key, V3::Zero()).first->second += a.norm() * t;
     }
     ASSERT_EQ(sum.size(), std::string(name) == "cube" ? 6u : 8u) << name;
     // Adjacent regions: those whose true normals are not opposite.
