@@ -235,6 +235,32 @@ void FrameCamera(vtkCamera* camera, const Frame& frame, const double direction[3
   camera->SetParallelScale(perPixel * panelH / 2);
 }
 
+TwoPanels::TwoPanels(int width)
+  : Width(width)
+  , Height(std::max(64, width / 2))
+  , PanelW(width / 2.0)
+  , PanelH(std::max(64, width / 2))
+{
+  this->TitleFont = std::clamp(static_cast<int>(std::lround(this->PanelH * 0.045)), 10, 48);
+  this->NoteFont = std::max(9, static_cast<int>(std::lround(this->TitleFont * 0.75)));
+  this->Margin = std::max(3.0, 0.035 * this->PanelH);
+  this->TitleTop = 0.4 * this->Margin;
+  this->NoteTop = this->TitleTop + 1.3 * this->TitleFont;
+  this->Band = this->NoteTop + 1.35 * this->NoteFont;
+}
+
+vtkSmartPointer<vtkRenderWindow> PictureWindow(int width, int height)
+{
+  auto window = vtkSmartPointer<vtkRenderWindow>::New();
+  window->SetOffScreenRendering(1);
+  window->SetSize(width, height);
+  window->SetMultiSamples(0);
+  vtkNew<vtkRenderer> back;
+  back->SetBackground(0.8, 0.8, 0.8);
+  window->AddRenderer(back);
+  return window;
+}
+
 bool SavePicture(vtkRenderWindow* window, const std::string& pngPath, std::string& error)
 {
   vtkNew<vtkWindowToImageFilter> grab;

@@ -77,21 +77,13 @@ bool RenderCurvaturePicture(vtkPolyData* surface, vtkPolyData* creases, int widt
     error = "no corrected curvature to render";
     return false;
   }
-  const int height = std::max(64, width / 2);
-  const double panelW = width / 2.0, panelH = height;
-  const int titleFont = std::clamp(static_cast<int>(std::lround(panelH * 0.045)), 10, 48);
-  const int noteFont = std::max(9, static_cast<int>(std::lround(titleFont * 0.75)));
-  const double margin = std::max(3.0, 0.035 * panelH);
-  const double titleTop = 0.4 * margin, noteTop = titleTop + 1.3 * titleFont;
-  const double band = noteTop + 1.35 * noteFont;
-
-  vtkNew<vtkRenderWindow> window;
-  window->SetOffScreenRendering(1);
-  window->SetSize(width, height);
-  window->SetMultiSamples(0);
-  vtkNew<vtkRenderer> back;
-  back->SetBackground(0.8, 0.8, 0.8);
-  window->AddRenderer(back);
+  const TwoPanels layout(width);
+  const int height = layout.Height;
+  const double panelW = layout.PanelW, panelH = layout.PanelH;
+  const int titleFont = layout.TitleFont, noteFont = layout.NoteFont;
+  const double margin = layout.Margin, titleTop = layout.TitleTop, noteTop = layout.NoteTop;
+  const double band = layout.Band;
+  vtkSmartPointer<vtkRenderWindow> window = PictureWindow(width, height);
 
   // Left: H on the surface, over a symmetric range (the 98th percentile of
   // |H|: a few faces at corners would otherwise wash everything out).

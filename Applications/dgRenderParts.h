@@ -40,6 +40,19 @@ Frame Framing(vtkPolyData* surface, const double direction[3], const double up[3
 /// pixels, below a text band of `band` pixels, with `margin` pixels around.
 void FrameCamera(vtkCamera* camera, const Frame& frame, const double direction[3],
   const double up[3], double diagonal, double panelW, double panelH, double band, double margin);
+/// The two-panel pictures (Width x Width / 2): panel size, fonts, margin,
+/// the titles' and notes' heights and the text band above the object.
+struct TwoPanels
+{
+  explicit TwoPanels(int width);
+  int Width, Height;
+  double PanelW, PanelH;
+  int TitleFont, NoteFont;
+  double Margin, TitleTop, NoteTop, Band;
+};
+/// An off-screen window of width x height with the grey background
+/// renderer that shows between panels.
+vtkSmartPointer<vtkRenderWindow> PictureWindow(int width, int height);
 /// Writes the rendered window (its back buffer) as a PNG;
 /// false with error set when the file cannot be written.
 bool SavePicture(vtkRenderWindow* window, const std::string& pngPath, std::string& error);
