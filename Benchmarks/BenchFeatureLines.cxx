@@ -4,12 +4,15 @@
 //
 // Usage: BenchFeatureLines [--sizes 64] [--shapes cube,cube2,octahedron,cubesphere]
 //          (also cylinder, wedge, cubesphere-twin: cubesphere's volume voxel for
-//          voxel, with other true circles)
+//          voxel, with other true circles; and issue 39's smooth and filleted
+//          shapes, torus ... blobs, fillet2 ... fillet12, scored as smooth
+//          shapes: lines per 1000 surfels, errors, share worse than II)
 //          [--noise 0,0.3] [--seeds 1,2] [--radius R] [--alpha A] [--lambda L]
 //          [--islands N (default 8, vtkDigitalIslandFilter; 0 = off)] [--depth D]
 //          [--min-region M] [--angle DEG] [--strong-angle DEG] [--planar-angle DEG] [--edge-angle DEG] [--beta B]
 //          [--residual R] [--fit 0|1] [--passes P] [--vote-depth D]
 //          [--threshold T] [--second-pass 0|1] [--curved 0|1] [--quadric 0|1] [--quadric-merge F] [--quadric-distance D]
+//          [--corner-depth D]
 // DG_ATCACHE=DIR keeps AT's output per case in DIR and reuses it (then only
 // the stage runs, and the II and AT lines are not printed): parameter
 // studies of the stage alone.
@@ -108,7 +111,14 @@ std::unique_ptr<dgtest::ImplicitShape> MakeShape(const std::string& name, int n)
     return dgtest::MakeCylinder(c, 0.32 * n, 0.3 * n);
   if (name == "wedge")
     return dgtest::MakeWedge(c, 0.3 * n);
-  return nullptr;
+  // The smooth and filleted shapes of issue 39 (no sharp edge): scored by
+  // dgtest::MeasureSmooth instead.
+  return dgtest::MakeSmoothShape(name, n);
+}
+
+bool IsSmooth(const std::string& name, int n)
+{
+  return dgtest::MakeSmoothShape(name, n) != nullptr;
 }
 // Mean unoriented error by distance to the nearest true edge (bins of 1 voxel).
 std::string Profile(const dgtest::ImplicitShape& shape, vtkPolyData* surface, const char* name)
@@ -259,6 +269,27 @@ vtkSmartPointer<vtkPolyData> LinesBetweenLabels(vtkPolyData* surface, const std:
 }
 } // namespace
 
+// DG_DUMP=PREFIX: the stage's surface and lines (and AT's lines) as .vtp.
+void Dump(vtkSharpFeaturesFilter* sharp, vtkAmbrosioTortorelliFilter* at)
+{
+  const char* dump = std::getenv("DG_DUMP");
+  if (!dump)
+    return;
+  vtkNew<vtkXMLPolyDataWriter> w;
+  w->SetInputData(sharp->GetOutput(0));
+  w->SetFileName((std::string(dump) + "_surface.vtp").c_str());
+  w->Write();
+  w->SetInputData(sharp->GetOutput(1));
+  w->SetFileName((std::string(dump) + "_lines.vtp").c_str());
+  w->Write();
+  if (at)
+  {
+    w->SetInputData(at->GetOutput(1));
+    w->SetFileName((std::string(dump) + "_atlines.vtp").c_str());
+    w->Write();
+  }
+}
+
 int main(int argc, char* argv[])
 {
   std::vector<int> sizes = { 64 };
@@ -270,7 +301,7 @@ int main(int argc, char* argv[])
   int depth = 5, minRegion = 30;
   double threshold = 0.5, edgeAngle = 10;
   int islands = 8, passes = 2, voteDepth = 2, fit = 1, curved = 1, quadric = 1;
-  double beta = 0.2, residual = 0.3;
+  double beta = 0.2, residual = 0.3, cornerDepth = 0.6;
   bool secondPass = false;
   for (int a = 1; a + 1 < argc; a += 2)
   {
@@ -337,6 +368,8 @@ int main(int argc, char* argv[])
       strongAngle = std::stod(v);
     else if (k == "--planar-angle")
       planarAngle = std::stod(v);
+    else if (k == "--corner-depth")
+      cornerDepth = std::stod(v);
     else
     {
       std::fprintf(stderr, "unknown option %s\n", k.c_str());
@@ -363,6 +396,8 @@ int main(int argc, char* argv[])
     sharp->SetQuadricMergeDistance(quadricDistance);
     sharp->SetFitResidual(residual);
     sharp->SetReferenceWeight(beta);
+    sharp->SetInputRadius(radius);
+    sharp->SetCornerDepth(cornerDepth);
   };
   for (int n : sizes)
     for (const auto& name : shapes)
@@ -439,12 +474,23 @@ int main(int argc, char* argv[])
             sharp->SetInputData(rd->GetOutput());
             configure(sharp);
             sharp->Update();
+            if (IsSmooth(name, n))
+            {
+              const auto m = dgtest::MeasureSmooth(
+                *shape, sharp->GetOutput(0), "SharpNormals", "IINormals", sharp->GetOutput(1));
+              std::printf("%-10s %4d k %.1f s %d | sharp %s | cached\n", name.c_str(), n, k, seeds[si],
+                m.Describe().c_str());
+              Dump(sharp, nullptr);
+              std::fflush(stdout);
+              continue;
+            }
             const auto mS = dgtest::MeasureFeatures(
               *shape, sharp->GetOutput(0), "SharpNormals", sharp->GetOutput(1));
             std::printf("%-10s %4d k %.1f s %d | sharp %s | band %lld unassigned %lld regions %d | cached\n",
               name.c_str(), n, k, seeds[si], mS.Describe().c_str(),
               static_cast<long long>(sharp->GetNumberOfBandFaces()),
               static_cast<long long>(sharp->GetNumberOfUnassignedFaces()), sharp->GetNumberOfRegions());
+            Dump(sharp, nullptr);
             if (std::getenv("DG_PROFILE"))
               std::printf("   profile by edge distance 0..7+: sharp%s\n",
                 Profile(*shape, sharp->GetOutput(0), "SharpNormals").c_str());
@@ -484,6 +530,20 @@ int main(int argc, char* argv[])
           }
           const double s =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+          if (IsSmooth(name, n))
+          {
+            const auto mA = dgtest::MeasureSmooth(
+              *shape, at->GetOutput(0), "ATNormals", "IINormals", at->GetOutput(1));
+            const auto m = dgtest::MeasureSmooth(
+              *shape, sharp->GetOutput(0), "SharpNormals", "IINormals", sharp->GetOutput(1));
+            std::printf("%-10s %4d k %.1f s %d | AT    %s\n", name.c_str(), n, k, seeds[si],
+              mA.Describe().c_str());
+            std::printf("%-10s %4d k %.1f s %d | sharp %s | %.1f s\n", name.c_str(), n, k, seeds[si],
+              m.Describe().c_str(), s);
+            Dump(sharp, at);
+            std::fflush(stdout);
+            continue;
+          }
           const auto mAT = dgtest::MeasureFeatures(*shape, at->GetOutput(0), "ATNormals", at->GetOutput(1));
           const auto mII = dgtest::MeasureFeatures(*shape, ii->GetOutput(), "IINormals", nullptr);
           const auto mS = dgtest::MeasureFeatures(
