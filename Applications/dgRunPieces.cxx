@@ -420,6 +420,11 @@ int RunPieces(Options opt, dg::Processes& procs)
     opt.P.MinimumComponentSize > 1 ? pipeline.Islands->GetNumberOfChangedVoxels() : 0));
   const double memory = PeakMemoryMiB();
   const double memoryMax = procs.Max(memory), memorySum = procs.Sum(memory);
+  const double sharpBytes = opt.P.Sharpen ? pipeline.Sharp->GetExchangedBytes() : 0.0;
+  const long long sharpMessages =
+    opt.P.Sharpen ? static_cast<long long>(pipeline.Sharp->GetExchangedMessages()) : 0;
+  const double sharpBytesSum = procs.Sum(sharpBytes);
+  const long long sharpMessagesSum = procs.Sum(sharpMessages);
   const double total = std::chrono::duration<double>(Clock::now() - start).count();
   if (!root)
   {
@@ -477,7 +482,9 @@ int RunPieces(Options opt, dg::Processes& procs)
               << mesh->GetNumberOfBoundCoordinates() << " coordinates at their cell's bound\n";
   if (opt.P.Sharpen)
     std::cout << "  sharp features (gathered on rank 0): crease test " << pipeline.Sharp->GetCreaseTestTime()
-              << " s, output field " << pipeline.Sharp->GetFieldTime() << " s\n";
+              << " s, output field " << pipeline.Sharp->GetFieldTime() << " s; rank 0 sent and received "
+              << sharpBytes / (1 << 20) << " MiB in " << sharpMessages << " calls (all ranks: "
+              << sharpBytesSum / (1 << 20) << " MiB, " << sharpMessagesSum << " calls)\n";
   for (const auto& [name, pieces] : { std::make_pair(prefix + "_surface", surfacePieces),
          std::make_pair(prefix + "_features", featurePieces) })
     std::cout << "  wrote " << (outDir / (name + ".pvtp")).string() << " and " << pieces

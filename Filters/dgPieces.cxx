@@ -1,6 +1,11 @@
 #include "dgPieces.h"
 
+#include <vtkCellArray.h>
 #include <vtkCellData.h>
+#include <vtkIdList.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkUnsignedCharArray.h>
 #include <vtkCommunicator.h>
 #include <vtkDataArray.h>
 #include <vtkImageData.h>
@@ -15,6 +20,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <vector>
 
 namespace dg
 {
@@ -180,4 +186,57 @@ void CropImageToExtent(vtkImageData* image, const int box[6], vtkImageData* outp
   }
 }
 
+
+vtkSmartPointer<vtkPolyData> WithoutGhostCells(vtkPolyData* input)
+{
+  const vtkIdType nCells = input ? input->GetNumberOfCells() : 0;
+  vtkDataArray* ghosts = input ? input->GetCellData()->GetArray(vtkDataSetAttributes::GhostArrayName()) : nullptr;
+  if (!ghosts || ghosts->GetNumberOfTuples() != nCells)
+    return nullptr;
+  const int mask = vtkDataSetAttributes::DUPLICATECELL | vtkDataSetAttributes::HIDDENCELL;
+  vtkNew<vtkIdList> keep;
+  for (vtkIdType c = 0; c < nCells; ++c)
+    if (!(static_cast<int>(ghosts->GetComponent(c, 0)) & mask))
+      keep->InsertNextId(c);
+  if (keep->GetNumberOfIds() == nCells)
+    return nullptr;
+  const vtkIdType nPoints = input->GetNumberOfPoints();
+  std::vector<vtkIdType> newPoint(nPoints, -1);
+  vtkNew<vtkIdList> usedPoints, pts;
+  auto output = vtkSmartPointer<vtkPolyData>::New();
+  output->AllocateExact(keep->GetNumberOfIds(), 4 * keep->GetNumberOfIds());
+  for (vtkIdType i = 0; i < keep->GetNumberOfIds(); ++i)
+  {
+    const vtkIdType c = keep->GetId(i);
+    input->GetCellPoints(c, pts);
+    for (vtkIdType k = 0; k < pts->GetNumberOfIds(); ++k)
+    {
+      vtkIdType& id = newPoint[pts->GetId(k)];
+      if (id < 0)
+      {
+        id = usedPoints->GetNumberOfIds();
+        usedPoints->InsertNextId(pts->GetId(k));
+      }
+      pts->SetId(k, id);
+    }
+    output->InsertNextCell(input->GetCellType(c), pts);
+  }
+  vtkNew<vtkPoints> points;
+  points->SetDataType(input->GetPoints()->GetDataType());
+  points->SetNumberOfPoints(usedPoints->GetNumberOfIds());
+  for (vtkIdType i = 0; i < usedPoints->GetNumberOfIds(); ++i)
+    points->SetPoint(i, input->GetPoint(usedPoints->GetId(i)));
+  output->SetPoints(points);
+  output->GetCellData()->CopyGlobalIdsOn();
+  output->GetCellData()->CopyAllocate(input->GetCellData(), keep->GetNumberOfIds());
+  for (vtkIdType i = 0; i < keep->GetNumberOfIds(); ++i)
+    output->GetCellData()->CopyData(input->GetCellData(), keep->GetId(i), i);
+  output->GetPointData()->CopyGlobalIdsOn();
+  output->GetPointData()->CopyAllocate(input->GetPointData(), usedPoints->GetNumberOfIds());
+  for (vtkIdType i = 0; i < usedPoints->GetNumberOfIds(); ++i)
+    output->GetPointData()->CopyData(input->GetPointData(), usedPoints->GetId(i), i);
+  output->GetCellData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
+  output->GetFieldData()->ShallowCopy(input->GetFieldData());
+  return output;
+}
 } // namespace dg

@@ -9,11 +9,14 @@
 #ifndef dgPieces_h
 #define dgPieces_h
 
+#include <vtkSmartPointer.h>
+
 #include <cstddef>
 
 class vtkDataArray;
 class vtkDataSetAttributes;
 class vtkImageData;
+class vtkPolyData;
 class vtkInformation;
 class vtkMultiProcessController;
 
@@ -62,6 +65,15 @@ void CopyExtent(const void* src, const int extent[6], const int box[6], std::siz
 /// (or an array has a non-standard layout: then Crop). Geometry and scalars
 /// as image's.
 void CropImageToExtent(vtkImageData* image, const int box[6], vtkImageData* output);
+
+/// The cells of `input` not marked as ghosts (DUPLICATECELL or HIDDENCELL),
+/// with only the points they use and their cell and point data (global ids
+/// included), in input order; null when `input` has no ghost cell. For a
+/// filter whose output cannot give ghost cells their owners' values: a
+/// downstream request for ghost levels reaches the producers upstream, and
+/// ghost cells passed on with values of this piece's making would be
+/// silently wrong.
+vtkSmartPointer<vtkPolyData> WithoutGhostCells(vtkPolyData* input);
 } // namespace dg
 
 #endif

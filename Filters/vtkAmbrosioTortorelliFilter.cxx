@@ -241,7 +241,12 @@ int vtkAmbrosioTortorelliFilter::RequestData(vtkInformation*,
   {
     // One of several pieces: the distributed solve (no kept solution).
     cache.Valid = false;
-    return this->RequestDataPieces(controller, input, output, features, params);
+    vtkInformation* outInfo = outputVector->GetInformationObject(0);
+    const int ghostLevels =
+      outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS())
+      ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS())
+      : 0;
+    return this->RequestDataPieces(controller, input, output, features, params, ghostLevels);
   }
 
   vtkCellArray* polys = input->GetPolys();

@@ -305,8 +305,11 @@ protected:
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   // The distributed solve (vtkAmbrosioTortorelliFilterPieces.cxx).
+  // ghostLevels: what downstream asked for; with one or more, port 0 also
+  // holds the ring of ghost faces around the piece, with their owners' u.
   int RequestDataPieces(vtkMultiProcessController* controller, vtkPolyData* input,
-    vtkPolyData* output, vtkPolyData* features, const dg::ATParameters& parameters);
+    vtkPolyData* output, vtkPolyData* features, const dg::ATParameters& parameters,
+    int ghostLevels);
 
   double Alpha = 0.1;
   double Lambda = 0.01;

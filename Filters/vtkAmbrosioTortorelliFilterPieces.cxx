@@ -23,6 +23,7 @@
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkUnsignedCharArray.h>
 
 #include <algorithm>
 #include <cmath>
@@ -40,7 +41,8 @@ std::vector<std::int64_t> ToInt64(vtkDataArray* a)
 } // namespace
 
 int vtkAmbrosioTortorelliFilter::RequestDataPieces(vtkMultiProcessController* controller,
-  vtkPolyData* input, vtkPolyData* output, vtkPolyData* features, const dg::ATParameters& params)
+  vtkPolyData* input, vtkPolyData* output, vtkPolyData* features, const dg::ATParameters& params,
+  int ghostLevels)
 {
   const int rank = controller->GetLocalProcessId();
   auto allOk = [controller](bool ok) {
@@ -245,12 +247,27 @@ int vtkAmbrosioTortorelliFilter::RequestDataPieces(vtkMultiProcessController* co
   const Eigen::MatrixXd& u = solver.U();
   const Eigen::VectorXd& v = solver.V();
 
-  // 5. Port 0: the owned cells only, with the points they use.
+  // 5. Port 0: the owned cells, then, when downstream asked for ghost
+  // levels, the halo's ring of ghost cells (one level) with their owners'
+  // u and v: a stage after this one that reads its input on the ring (AT
+  // again, on the sharp stage's normals) sees there what one process gives.
+  const std::int64_t outFaces =
+    ghostLevels > 0 ? static_cast<std::int64_t>(halo.FaceRows.size()) : halo.OwnedFaces;
+  std::vector<double> uRows(static_cast<std::size_t>(u.rows()) * nc), vRows(v.data(), v.data() + v.size());
+  for (Eigen::Index r = 0; r < u.rows(); ++r)
+  {
+    for (int c = 0; c < nc; ++c)
+    {
+      uRows[r * nc + c] = u(r, c);
+    }
+  }
+  halo.UpdateGhosts(0, uRows.data(), nc); // collective: every process gets here
+  halo.UpdateGhosts(1, vRows.data(), 1);
   std::vector<vtkIdType> newPoint(nPoints, -1), oldPoint;
   vtkNew<vtkIdTypeArray> outOffsets, outConn;
-  outOffsets->SetNumberOfValues(halo.OwnedFaces + 1);
+  outOffsets->SetNumberOfValues(outFaces + 1);
   outOffsets->SetValue(0, 0);
-  for (std::int64_t r = 0; r < halo.OwnedFaces; ++r)
+  for (std::int64_t r = 0; r < outFaces; ++r)
   {
     const std::int64_t f = halo.FaceRows[r];
     for (std::int64_t k = offsets[f]; k < offsets[f + 1]; ++k)
@@ -281,12 +298,23 @@ int vtkAmbrosioTortorelliFilter::RequestDataPieces(vtkMultiProcessController* co
   vtkCellData* inCD = input->GetCellData();
   vtkCellData* outCD = output->GetCellData();
   outCD->CopyGlobalIdsOn();
-  outCD->CopyAllocate(inCD, halo.OwnedFaces);
-  for (std::int64_t r = 0; r < halo.OwnedFaces; ++r)
+  outCD->CopyAllocate(inCD, outFaces);
+  for (std::int64_t r = 0; r < outFaces; ++r)
   {
     outCD->CopyData(inCD, halo.FaceRows[r], r);
   }
   outCD->RemoveArray(vtkDataSetAttributes::GhostArrayName());
+  if (outFaces > halo.OwnedFaces)
+  {
+    vtkNew<vtkUnsignedCharArray> cellGhosts;
+    cellGhosts->SetName(vtkDataSetAttributes::GhostArrayName());
+    cellGhosts->SetNumberOfTuples(outFaces);
+    for (std::int64_t r = 0; r < outFaces; ++r)
+    {
+      cellGhosts->SetValue(r, r < halo.OwnedFaces ? 0 : vtkDataSetAttributes::DUPLICATECELL);
+    }
+    outCD->AddArray(cellGhosts);
+  }
   vtkNew<vtkCellArray> outPolys;
   outPolys->SetData(outOffsets, outConn);
   output->SetPoints(points);
@@ -298,14 +326,14 @@ int vtkAmbrosioTortorelliFilter::RequestDataPieces(vtkMultiProcessController* co
   vtkNew<vtkDoubleArray> uArray;
   uArray->SetName(normalField ? "ATNormals" : (std::string(fieldName) + "_AT").c_str());
   uArray->SetNumberOfComponents(nc);
-  uArray->SetNumberOfTuples(halo.OwnedFaces);
-  for (std::int64_t r = 0; r < halo.OwnedFaces; ++r)
+  uArray->SetNumberOfTuples(outFaces);
+  for (std::int64_t r = 0; r < outFaces; ++r)
   {
     double* o = uArray->GetPointer(r * nc);
     double n2 = 0;
     for (int c = 0; c < nc; ++c)
     {
-      o[c] = u(r, c) * scale;
+      o[c] = uRows[r * nc + c] * scale;
       n2 += o[c] * o[c];
     }
     for (int c = 0; normalize && n2 > 0 && c < nc; ++c)
@@ -323,7 +351,7 @@ int vtkAmbrosioTortorelliFilter::RequestDataPieces(vtkMultiProcessController* co
   vArray->SetNumberOfTuples(nOut);
   for (vtkIdType i = 0; i < nOut; ++i)
   {
-    vArray->SetValue(i, v[pointRow[oldPoint[i]]]);
+    vArray->SetValue(i, vRows[pointRow[oldPoint[i]]]);
   }
   outPD->AddArray(vArray);
 

@@ -102,6 +102,12 @@ int vtkCorrectedCurvatureFilter::RequestData(
   {
     return internal.Abort.Abort(outputVector);
   }
+  // Ghost cells of the input (a downstream request for ghost levels reaches
+  // the producers upstream) get no curvature here: the piece works on, and
+  // outputs, its own cells; its halo brings the neighbours' faces.
+  const vtkSmartPointer<vtkPolyData> ownInput = dg::WithoutGhostCells(input);
+  if (ownInput)
+    input = ownInput;
   // Parameters are the same on every process: each refuses them alone.
   if (!(this->Radius > 0) || !std::isfinite(this->Radius))
   {

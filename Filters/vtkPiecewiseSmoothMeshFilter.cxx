@@ -132,6 +132,12 @@ int vtkPiecewiseSmoothMeshFilter::RequestData(
   }
   if (dg::PipelineAbort::InputAborted(inputVector, 1))
     return internal.Abort.Abort(outputVector);
+  // Ghost cells of the input (a downstream request for ghost levels reaches
+  // the producers upstream) are not moved here: the piece works on, and
+  // outputs, its own cells; its halo brings the neighbours' vertices.
+  const vtkSmartPointer<vtkPolyData> ownInput = dg::WithoutGhostCells(input);
+  if (ownInput)
+    input = ownInput;
   // Parameters are the same on every process: each refuses them alone.
   dg::MeshParameters par;
   par.DataWeight = this->DataWeight;

@@ -65,6 +65,8 @@ int vtkSharpFeaturesFilter::RequestData(
   vtkPolyData* lines = vtkPolyData::GetData(outputVector, 1);
   this->NumberOfBandFaces = this->NumberOfUnassignedFaces = 0;
   this->NumberOfRegions = 0;
+  this->ExchangedBytes = 0;
+  this->ExchangedMessages = 0;
   this->NumberOfPlanarRegions = 0;
   this->NumberOfQuadricRegions = 0;
   this->NumberOfQuadricMerges = 0;
@@ -390,6 +392,8 @@ void vtkSharpFeaturesFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NoiseShare: " << this->NoiseShare << "\n";
   os << indent << "CreaseTestTime: " << this->CreaseTestTime << "\n";
   os << indent << "FieldTime: " << this->FieldTime << "\n";
+  os << indent << "ExchangedBytes: " << this->ExchangedBytes << "\n";
+  os << indent << "ExchangedMessages: " << this->ExchangedMessages << "\n";
   os << indent << "UsedFieldAlpha: " << this->UsedFieldAlpha << "\n";
   os << indent << "NumberOfBandFaces: " << this->NumberOfBandFaces << "\n";
   os << indent << "NumberOfUnassignedFaces: " << this->NumberOfUnassignedFaces << "\n";

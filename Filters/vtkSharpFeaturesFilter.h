@@ -358,6 +358,16 @@ public:
   vtkGetMacro(FieldTime, double);
 
   /**
+   * What this process exchanged in the last execution over pieces (0 in
+   * one process): payload bytes sent plus received, and communication calls
+   * (a point-to-point message or a collective call, each counted once).
+   * Process 0 gathers the surface and sends the results back, so its
+   * figures are the stage's bottleneck (docs/distributed.md).
+   */
+  vtkGetMacro(ExchangedBytes, double);
+  vtkGetMacro(ExchangedMessages, vtkIdType);
+
+  /**
    * Figures of the last execution: band faces, band faces that met no
    * region (they keep their input normal), regions after merging.
    */
@@ -409,6 +419,8 @@ protected:
   int NumberOfCreases = 0;
   double CreaseTestTime = 0;
   double FieldTime = 0;
+  double ExchangedBytes = 0;
+  vtkIdType ExchangedMessages = 0;
   int NumberOfBends = 0;
   double NoiseShare = 0.0;
   double UsedFieldAlpha = 0.0;

@@ -56,10 +56,18 @@ int vtkSharpFeaturesFilter::RequestDataPieces(vtkMultiProcessController* control
 {
   const int rank = controller->GetLocalProcessId();
   const int size = controller->GetNumberOfProcesses();
-  auto allOk = [controller](bool ok)
+  // What this process sends plus receives (payload), per communication call.
+  this->ExchangedBytes = 0;
+  this->ExchangedMessages = 0;
+  auto exchanged = [this](double bytes) {
+    this->ExchangedBytes += bytes;
+    ++this->ExchangedMessages;
+  };
+  auto allOk = [controller, &exchanged](bool ok)
   {
     int mine = ok ? 1 : 0, all = 0;
     controller->AllReduce(&mine, &all, 1, vtkCommunicator::MIN_OP);
+    exchanged(2 * sizeof(int));
     return all == 1;
   };
   std::string problem;
@@ -111,6 +119,8 @@ int vtkSharpFeaturesFilter::RequestDataPieces(vtkMultiProcessController* control
   int allLowest = lowest, allHighest = highest;
   controller->AllReduce(&lowest, &allLowest, 1, vtkCommunicator::MIN_OP);
   controller->AllReduce(&highest, &allHighest, 1, vtkCommunicator::MAX_OP);
+  exchanged(2 * sizeof(lowest));
+  exchanged(2 * sizeof(highest));
   if (problem.empty() && allHighest >= -1 && allLowest != allHighest)
     problem = "the pieces do not all have the same input normal field.";
   if (!allOk(problem.empty()))
@@ -126,6 +136,10 @@ int vtkSharpFeaturesFilter::RequestDataPieces(vtkMultiProcessController* control
   std::vector<vtkIdType> faceIds, pointGids;      // per face: gid, size, point gids
   std::vector<double> faceValues, pointValues;    // per face: u (3), input (3); per point: xyz, v
   std::vector<vtkIdType> ownCell;                 // input cell of each own face
+  // Ghost faces get their owner's results too: a stage after this one that
+  // reads its input on the ghost ring (AT's second pass) must see there what
+  // one process gives, not this piece's AT normals.
+  std::vector<vtkIdType> ghostIds, ghostCell;     // gid and input cell of each ghost face
   {
     std::vector<char> used(nPoints, 0);
     vtkIdType npts = 0;
@@ -136,7 +150,11 @@ int vtkSharpFeaturesFilter::RequestDataPieces(vtkMultiProcessController* control
       if (ghosts &&
         (static_cast<int>(ghosts->GetComponent(cell, 0)) &
           (vtkDataSetAttributes::DUPLICATECELL | vtkDataSetAttributes::HIDDENCELL)))
+      {
+        ghostIds.push_back(static_cast<vtkIdType>(cellIds->GetComponent(cell, 0)));
+        ghostCell.push_back(cell);
         continue;
+      }
       polys->GetCellAtId(f, npts, ids);
       faceIds.push_back(static_cast<vtkIdType>(cellIds->GetComponent(cell, 0)));
       faceIds.push_back(npts);
@@ -178,6 +196,17 @@ int vtkSharpFeaturesFilter::RequestDataPieces(vtkMultiProcessController* control
       offsets[r] = offsets[r - 1] + counts[r - 1];
     all.resize(rank == 0 ? static_cast<std::size_t>(offsets.back() + counts.back()) : 0);
     controller->GatherV(mine.data(), all.data(), n, counts.data(), offsets.data(), 0);
+    const double item = sizeof(mine[0]);
+    if (rank == 0)
+    {
+      exchanged(sizeof(vtkIdType) * (size - 1.0));
+      exchanged(item * static_cast<double>(all.size() - mine.size()));
+    }
+    else
+    {
+      exchanged(sizeof(vtkIdType));
+      exchanged(item * static_cast<double>(n));
+    }
   };
   std::vector<vtkIdType> allFaceIds, allPointGids, nFaceIds, nPointGids, nFaceValues, nPointValues;
   std::vector<double> allFaceValues, allPointValues;
@@ -185,6 +214,8 @@ int vtkSharpFeaturesFilter::RequestDataPieces(vtkMultiProcessController* control
   gather(faceValues, allFaceValues, nFaceValues);
   gather(pointGids, allPointGids, nPointGids);
   gather(pointValues, allPointValues, nPointValues);
+  std::vector<vtkIdType> allGhostIds, nGhostIds;
+  gather(ghostIds, allGhostIds, nGhostIds);
 
   // 4. Process 0: the whole surface in one process's order, and the stage.
   int status = 1;
@@ -275,13 +306,31 @@ int vtkSharpFeaturesFilter::RequestDataPieces(vtkMultiProcessController* control
       vtkDataArray* sharp = wholeOut->GetCellData()->GetArray("SharpNormals");
       vtkDataArray* region = wholeOut->GetCellData()->GetArray("FeatureRegion");
       for (int r = 0; r < size; ++r)
-        faceResults[r].resize(4 * (nFaceValues[r] / per));
+        faceResults[r].resize(4 * (nFaceValues[r] / per + nGhostIds[r]));
       for (std::size_t f = 0; f < faces.size(); ++f)
       {
         double* o = &faceResults[faces[f].Rank][4 * faces[f].Index];
         sharp->GetTuple(static_cast<vtkIdType>(f), o);
         o[3] = region->GetComponent(static_cast<vtkIdType>(f), 0);
       }
+      // Then each process's ghost faces, in the order it listed them (faces
+      // is sorted by gid); a ghost no process owns keeps region -2 and the
+      // receiver its own values.
+      for (int r = 0, k = 0; r < size; ++r)
+        for (vtkIdType g = 0; g < nGhostIds[r]; ++g, ++k)
+        {
+          double* o = &faceResults[r][4 * (nFaceValues[r] / per + g)];
+          const auto it = std::lower_bound(faces.begin(), faces.end(), allGhostIds[k],
+            [](const Face& a, vtkIdType gid) { return a.Gid < gid; });
+          if (it == faces.end() || it->Gid != allGhostIds[k])
+          {
+            o[3] = -2;
+            continue;
+          }
+          const vtkIdType f = static_cast<vtkIdType>(it - faces.begin());
+          sharp->GetTuple(f, o);
+          o[3] = region->GetComponent(f, 0);
+        }
       // Each line to the process of the first face (in gid order) on it.
       std::map<std::pair<vtkIdType, vtkIdType>, int> sideOwner;
       for (std::size_t f = 0; f < faces.size(); ++f)
@@ -320,9 +369,11 @@ int vtkSharpFeaturesFilter::RequestDataPieces(vtkMultiProcessController* control
     }
   }
   controller->Broadcast(&status, 1, 0);
+  exchanged(sizeof(status) * (rank == 0 ? size - 1.0 : 1.0));
   if (status != 1)
     return 0; // process 0 said why (or was aborted)
   controller->Broadcast(stats, 12, 0);
+  exchanged(sizeof(stats) * (rank == 0 ? size - 1.0 : 1.0));
   this->NumberOfBandFaces = static_cast<vtkIdType>(stats[0]);
   this->NumberOfUnassignedFaces = static_cast<vtkIdType>(stats[1]);
   this->NumberOfRegions = static_cast<int>(stats[2]);
@@ -337,7 +388,7 @@ int vtkSharpFeaturesFilter::RequestDataPieces(vtkMultiProcessController* control
   this->FieldTime = stats[11];
 
   // 5. Each process's part back.
-  std::vector<double> mine(4 * ownCell.size());
+  std::vector<double> mine(4 * (ownCell.size() + ghostCell.size()));
   std::vector<vtkIdType> myLineIds;
   std::vector<double> myLineAngles;
   if (rank == 0)
@@ -349,6 +400,10 @@ int vtkSharpFeaturesFilter::RequestDataPieces(vtkMultiProcessController* control
       controller->Send(&n, 1, r, TagLineCount);
       controller->Send(lineIds[r].data(), 2 * n, r, TagLineIds);
       controller->Send(lineAngles[r].data(), n, r, TagLineAngles);
+      exchanged(sizeof(double) * static_cast<double>(faceResults[r].size()));
+      exchanged(sizeof(n));
+      exchanged(sizeof(vtkIdType) * 2.0 * n);
+      exchanged(sizeof(double) * static_cast<double>(n));
     }
     mine = std::move(faceResults[0]);
     myLineIds = std::move(lineIds[0]);
@@ -363,6 +418,10 @@ int vtkSharpFeaturesFilter::RequestDataPieces(vtkMultiProcessController* control
     myLineAngles.resize(n);
     controller->Receive(myLineIds.data(), 2 * n, 0, TagLineIds);
     controller->Receive(myLineAngles.data(), n, 0, TagLineAngles);
+    exchanged(sizeof(double) * static_cast<double>(mine.size()));
+    exchanged(sizeof(n));
+    exchanged(sizeof(vtkIdType) * 2.0 * n);
+    exchanged(sizeof(double) * static_cast<double>(n));
   }
 
   // 6. The outputs on this piece, as Execute writes them.
@@ -386,6 +445,14 @@ int vtkSharpFeaturesFilter::RequestDataPieces(vtkMultiProcessController* control
   {
     sharp->SetTuple(ownCell[f], &mine[4 * f]);
     region->SetValue(ownCell[f], static_cast<int>(mine[4 * f + 3]));
+  }
+  for (std::size_t g = 0; g < ghostCell.size(); ++g)
+  {
+    const double* o = &mine[4 * (ownCell.size() + g)];
+    if (o[3] == -2)
+      continue;
+    sharp->SetTuple(ghostCell[g], o);
+    region->SetValue(ghostCell[g], static_cast<int>(o[3]));
   }
   output->GetCellData()->AddArray(sharp);
   output->GetCellData()->SetActiveNormals("SharpNormals");

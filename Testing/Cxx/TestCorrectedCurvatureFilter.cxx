@@ -12,6 +12,8 @@
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
 #include <vtkDoubleArray.h>
+#include <vtkIdList.h>
+#include <vtkUnsignedCharArray.h>
 #include <vtkFieldData.h>
 #include <vtkNew.h>
 #include <vtkPolyData.h>
@@ -388,4 +390,62 @@ TEST(CorrectedCurvatureFilter, RejectsBadInput)
   ok->SetInputData(surface->GetOutput());
   ok->Update();
   EXPECT_EQ(ok->GetOutput(0)->GetNumberOfCells(), surface->GetOutput()->GetNumberOfCells());
+}
+
+// Ghost cells in the input (a downstream request for ghost levels reaches
+// the producers upstream, e.g. ParaView's parallel writer asks for one) are
+// left out: the output holds the own cells in input order, with only the
+// points they use, and no ghost array.
+TEST(CorrectedCurvatureFilter, GhostCellsAreLeftOut)
+{
+  const int n = 24;
+  auto shape = dgtest::MakeSphere(V3(12.3, 12.1, 12.2), 8);
+  vtkNew<vtkDigitalSurfaceFilter> surface;
+  surface->SetInputData(dgtest::Digitize(*shape, n));
+  surface->Update();
+  vtkNew<vtkPolyData> marked;
+  marked->ShallowCopy(surface->GetOutput());
+  const vtkIdType nCells = marked->GetNumberOfCells();
+  vtkNew<vtkUnsignedCharArray> ghosts;
+  ghosts->SetName(vtkDataSetAttributes::GhostArrayName());
+  ghosts->SetNumberOfTuples(nCells);
+  std::vector<vtkIdType> own;
+  std::vector<char> usedPoint(marked->GetNumberOfPoints(), 0);
+  vtkNew<vtkIdList> pts;
+  for (vtkIdType c = 0; c < nCells; ++c)
+  {
+    double b[6];
+    marked->GetCellBounds(c, b);
+    const bool ghost = b[4] > 14.0; // a cap of the sphere
+    ghosts->SetValue(c, ghost ? vtkDataSetAttributes::DUPLICATECELL : 0);
+    if (ghost)
+      continue;
+    own.push_back(c);
+    marked->GetCellPoints(c, pts);
+    for (vtkIdType k = 0; k < pts->GetNumberOfIds(); ++k)
+      usedPoint[pts->GetId(k)] = 1;
+  }
+  ASSERT_GT(own.size(), 0u);
+  ASSERT_LT(static_cast<vtkIdType>(own.size()), nCells);
+  marked->GetCellData()->AddArray(ghosts);
+  vtkNew<vtkCorrectedCurvatureFilter> filter;
+  filter->SetInputData(marked);
+  filter->SetRadius(3);
+  filter->Update();
+  vtkPolyData* out = filter->GetOutput(0);
+  ASSERT_EQ(out->GetNumberOfCells(), static_cast<vtkIdType>(own.size()));
+  EXPECT_EQ(out->GetCellData()->GetArray(vtkDataSetAttributes::GhostArrayName()), nullptr);
+  EXPECT_EQ(out->GetNumberOfPoints(),
+    static_cast<vtkIdType>(std::count(usedPoint.begin(), usedPoint.end(), 1)));
+  vtkDataArray* inVoxel = marked->GetCellData()->GetArray("InsideVoxel");
+  vtkDataArray* outVoxel = out->GetCellData()->GetArray("InsideVoxel");
+  vtkDataArray* h = out->GetCellData()->GetArray("CorrectedMeanCurvature");
+  ASSERT_NE(outVoxel, nullptr);
+  ASSERT_NE(h, nullptr);
+  for (std::size_t i = 0; i < own.size(); ++i)
+  {
+    for (int c = 0; c < inVoxel->GetNumberOfComponents(); ++c)
+      ASSERT_EQ(outVoxel->GetComponent(static_cast<vtkIdType>(i), c), inVoxel->GetComponent(own[i], c));
+    ASSERT_TRUE(std::isfinite(h->GetComponent(static_cast<vtkIdType>(i), 0)));
+  }
 }

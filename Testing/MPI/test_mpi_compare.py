@@ -11,6 +11,7 @@ surface without duplicated cells; a second N-rank run is bitwise equal to
 the first. N = 1 (program): mpirun -np 1 writes the same files, byte for
 byte, as the program run without mpirun."""
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -38,11 +39,13 @@ def run(cmd, timeout=300):
 STDOUT = {}
 
 
-def program(ranks, tolerance, tag, plain=True, extra=()):
+def program(ranks, tolerance, tag, plain=True, extra=(), volume=None):
     """Runs the program on `ranks` processes (0 = without mpirun); returns (folder, surface, features)."""
     out = os.path.join(ROOT, tag)
+    # The built-in case runs the program's own shape (no INPUT).
+    source = ["--size", str(mc.BUILTIN_SIZE)] if CASE == "builtin" and not volume else [volume or VOLUME]
     cmd = [os.environ["DG_PROGRAM"], "--quiet", "--no-png"] + (["--plain"] if plain else []) + [
-           "--solver-tolerance", tolerance, "--output-dir", out, "--prefix", "r", VOLUME] + list(extra)
+           "--solver-tolerance", tolerance, "--output-dir", out, "--prefix", "r"] + source + list(extra)
     if ranks:
         cmd = MPIRUN + ["-np", str(ranks)] + cmd
     p, dt = run(cmd)
@@ -118,6 +121,11 @@ if TOOL == "program":
     mc.compare_mesh(os.path.join(sref_dir, "r_mesh.vtp"), os.path.join(sref_dir, "r_mesh_creases.vtp"),
                     os.path.join(srun_dir, "r_mesh.pvtp"), os.path.join(srun_dir, "r_mesh_creases.pvtp"),
                     check, "np%d vs 1, --mesh" % N, 1e-4, require=False)
+    # --second-pass: AT again on the gathered stage's side normals, which it
+    # reads on its ghost ring too (the ring AT's pieces keep when asked).
+    pref_dir, pref_s, pref_f = program(0, TIGHT, "one-second", plain=False, extra=["--second-pass"])
+    prun_dir, prun_s, prun_f = program(N, TIGHT, "np%d-second" % N, plain=False, extra=["--second-pass"])
+    mc.compare_sharp(pref_s, pref_f, prun_s, prun_f, check, "np%d vs 1, --second-pass" % N, 0.01)
     from vtkmodules.vtkIOPLY import vtkPLYReader
     plys = []
     for d in (sref_dir, srun_dir):
@@ -133,6 +141,19 @@ if TOOL == "program":
     check(counts(STDOUT["one-sharp"]) == counts(STDOUT["np%d-sharp" % N]) != "",
           "np%d vs 1: the same summary counts (%s | %s)" % (N, counts(STDOUT["one-sharp"]),
                                                            counts(STDOUT["np%d-sharp" % N])))
+    # The summary reports what the gathered sharp stage moved (docs/distributed.md).
+    moved = re.search(r"rank 0 sent and received ([0-9.]+) MiB in (\d+) calls", STDOUT["np%d-sharp" % N])
+    check(moved is not None and float(moved.group(1)) >= 0 and int(moved.group(2)) >= 4 * (N - 1),
+          "np%d: the summary reports the sharp stage's exchange (%s)" % (N, moved.group(0) if moved else "missing"))
+    check("sent and received" not in STDOUT["one-sharp"], "one process: no exchange reported")
+    if CASE == "builtin":
+        # The copy pvbatch reads is the program's own shape, voxel for voxel
+        # (the same surfels from the .vti as from the built-in source).
+        copy_dir, copy_s, _ = program(0, DEFAULT, "one-vti", plain=True, volume=VOLUME)
+        built_dir, built_s, _ = program(0, DEFAULT, "one-builtin", plain=True)
+        n_copy, n_built = (mc.read_polydata(f).GetNumberOfCells() for f in (copy_s, built_s))
+        check(n_copy == n_built > 0, "the built-in case's .vti gives the built-in shape's surfels (%d, %d)"
+              % (n_copy, n_built))
 if TOOL == "pvbatch":
     mc.compare_sharp(ref_s.replace("r_surface", "r_sharp"), ref_s.replace("r_surface", "r_sharplines"),
                      run_s.replace("r_surface", "r_sharp"), run_s.replace("r_surface", "r_sharplines"),
