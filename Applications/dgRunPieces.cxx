@@ -8,6 +8,7 @@
 #include "dgRenderMesh.h"
 #include "vtkPiecewiseSmoothMeshFilter.h"
 #include "dgLabels.h"
+#include "dgPieces.h"
 #include "dgPipeline.h"
 #include "dgProcesses.h"
 
@@ -119,9 +120,9 @@ int RunPieces(Options opt, dg::Processes& procs)
     clock->Watch(algo, name);
   };
 
-  // 1. Input: a reader that gives each piece its sub-extent, or (formats read
-  // whole, the built-in shape, and noise, which is drawn on the whole volume
-  // as with one process) the whole volume on every rank.
+  // 1. Input: a reader that gives each piece its sub-extent (the noise too
+  // reads only its piece and the layers its reach needs), or (formats read
+  // whole, the built-in shape) the whole volume on every rank.
   vtkSmartPointer<vtkImageData> image;
   vtkSmartPointer<vtkAlgorithm> reader;
   std::string prefix = opt.Prefix;
@@ -137,8 +138,7 @@ int RunPieces(Options opt, dg::Processes& procs)
     }
     else
     {
-      if (opt.P.Noise <= 0)
-        reader = dg::OpenImagePieces(opt.Input, error, opt.Read);
+      reader = dg::OpenImagePieces(opt.Input, error, opt.Read);
       if (!reader && error.empty())
         image = dg::ReadImage(opt.Input, error, opt.Read);
       if (prefix.empty())
@@ -179,6 +179,23 @@ int RunPieces(Options opt, dg::Processes& procs)
   for (const auto& stage : pipeline.Stages)
     watch(stage.Algorithm, stage.Name, false);
   vtkAlgorithm* last = pipeline.Stages.back().Algorithm;
+  // The noise and island stages produce this rank's voxels and the layers
+  // the later stages read around them, which the neighbours produce too:
+  // their counts are of this rank's own voxels, so that the summary's sums
+  // are one process's.
+  {
+    vtkAlgorithm* first = pipeline.Stages.front().Algorithm;
+    first->UpdateInformation();
+    vtkInformation* info = first->GetInputInformation(0, 0);
+    int wholeExtent[6], own[6];
+    if (info && info->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+    {
+      info->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), wholeExtent);
+      dg::PieceExtent(wholeExtent, rank, size, own);
+      pipeline.Noise->SetCountedExtent(own);
+      pipeline.Islands->SetCountedExtent(own);
+    }
+  }
   // Objects inside the stages (a .pvti's piece readers) report to VTK's
   // output window, which no observer sees: collect it, so that a failure
   // says one line (naming the first error) and a success passes the
@@ -418,6 +435,8 @@ int RunPieces(Options opt, dg::Processes& procs)
     opt.P.MinimumComponentSize > 1 ? pipeline.Islands->GetNumberOfFilledCavities() : 0));
   const long long changed = procs.Sum(static_cast<long long>(
     opt.P.MinimumComponentSize > 1 ? pipeline.Islands->GetNumberOfChangedVoxels() : 0));
+  const long long flipped = procs.Sum(
+    static_cast<long long>(opt.P.Noise > 0 ? pipeline.Noise->GetNumberOfFlippedVoxels() : 0));
   const double memory = PeakMemoryMiB();
   const double memoryMax = procs.Max(memory), memorySum = procs.Sum(memory);
   const double sharpBytes = opt.P.Sharpen ? pipeline.Sharp->GetExchangedBytes() : 0.0;
@@ -458,6 +477,9 @@ int RunPieces(Options opt, dg::Processes& procs)
               << " processes)\n";
   else
     std::cout << " (Ambrosio-Tortorelli, " << size << " processes)\n";
+  if (opt.P.Noise > 0)
+    std::cout << "  noise k = " << opt.P.Noise << " (seed " << opt.P.Seed << "): " << flipped
+              << " voxels flipped\n";
   if (opt.P.MinimumComponentSize > 1)
     std::cout << "  removed " << islands << " inside components and filled " << cavities
               << " cavities smaller than " << opt.P.MinimumComponentSize << " voxels (" << changed

@@ -169,7 +169,7 @@ int main(int argc, char* argv[])
   }
   vtkNew<vtkAppendPolyData> appendSurfaces, appendFeatures;
   std::unique_ptr<dg::Pipeline> pipelinePtr;
-  long long surfels = 0, atLines = 0, removed = 0, filled = 0, changed = 0;
+  long long surfels = 0, atLines = 0, removed = 0, filled = 0, changed = 0, flipped = 0;
   std::vector<std::string> perLabel;
   std::map<std::string, double> stageTimes;
   std::vector<std::string> stageOrder;
@@ -198,6 +198,8 @@ int main(int argc, char* argv[])
     atLines += pipeline.AT->GetOutput(1)->GetNumberOfLines();
     creaseTime += pipeline.Sharp->GetCreaseTestTime();
     fieldTime += pipeline.Sharp->GetFieldTime();
+    if (run.Settings.Noise > 0)
+      flipped += pipeline.Noise->GetNumberOfFlippedVoxels();
     if (run.Settings.MinimumComponentSize > 1)
     {
       removed += pipeline.Islands->GetNumberOfRemovedIslands();
@@ -443,6 +445,9 @@ int main(int argc, char* argv[])
   std::cout << "\n";
   for (const auto& line : perLabel)
     std::cout << line << "\n";
+  if (opt.P.Noise > 0)
+    std::cout << "  noise k = " << opt.P.Noise << " (seed " << opt.P.Seed << "): " << flipped
+              << " voxels flipped\n";
   if (opt.P.MinimumComponentSize > 1)
     std::cout << "  removed " << removed << " inside components and filled " << filled
               << " cavities smaller than " << opt.P.MinimumComponentSize << " voxels (" << changed

@@ -2,6 +2,7 @@
 
 #include <vtkSMPTools.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -19,11 +20,17 @@ double HashUniform(std::uint64_t seed, std::uint64_t index)
   return static_cast<double>(z >> 11) * (1.0 / 9007199254740992.0);
 }
 
-void BoundaryVoxels(
-  const std::vector<std::uint8_t>& inside, const int dims[3], std::vector<std::uint8_t>& boundary)
+void BoundaryVoxels(const std::vector<std::uint8_t>& inside, const int dims[3],
+  std::vector<std::uint8_t>& boundary, unsigned openFaces)
+{
+  BoundaryVoxels(inside.data(), dims, boundary, openFaces);
+}
+
+void BoundaryVoxels(const std::uint8_t* inside, const int dims[3],
+  std::vector<std::uint8_t>& boundary, unsigned openFaces)
 {
   const int nx = dims[0], ny = dims[1], nz = dims[2];
-  boundary.assign(inside.size(), 0);
+  boundary.assign(static_cast<std::size_t>(nx) * ny * nz, 0);
   auto at = [&](int i, int j, int k) -> int {
     if (i < 0 || j < 0 || k < 0 || i >= nx || j >= ny || k >= nz)
     {
@@ -31,12 +38,17 @@ void BoundaryVoxels(
     }
     return inside[(static_cast<std::size_t>(k) * ny + j) * nx + i] != 0;
   };
-  vtkSMPTools::For(0, nz, [&](int kb, int ke) {
+  // The first and last index of each axis whose voxels are decided: an open
+  // face's layer is not (its outer neighbours are unknown).
+  const int lo[3] = { openFaces & 1u ? 1 : 0, openFaces & 4u ? 1 : 0, openFaces & 16u ? 1 : 0 };
+  const int hi[3] = { nx - (openFaces & 2u ? 2 : 1), ny - (openFaces & 8u ? 2 : 1),
+    nz - (openFaces & 32u ? 2 : 1) };
+  vtkSMPTools::For(lo[2], std::max(lo[2], hi[2] + 1), [&](int kb, int ke) {
     for (int k = kb; k < ke; ++k)
     {
-      for (int j = 0; j < ny; ++j)
+      for (int j = lo[1]; j <= hi[1]; ++j)
       {
-        for (int i = 0; i < nx; ++i)
+        for (int i = lo[0]; i <= hi[0]; ++i)
         {
           const int s = at(i, j, k);
           const bool b = at(i - 1, j, k) != s || at(i + 1, j, k) != s || at(i, j - 1, k) != s ||
@@ -152,49 +164,175 @@ void SquaredDistanceTransform(
 std::int64_t ApplyNoise(std::vector<std::uint8_t>& inside, const int dims[3], double k,
   std::uint64_t seed, const std::function<bool(double)>& progress)
 {
+  NoiseBox b;
+  for (int a = 0; a < 3; ++a)
+  {
+    b.Whole[2 * a] = b.Box[2 * a] = b.Out[2 * a] = 0;
+    b.Whole[2 * a + 1] = b.Box[2 * a + 1] = b.Out[2 * a + 1] = dims[a] - 1;
+  }
+  NoiseCounts counts;
+  if (!ApplyNoise(inside.data(), b, k, seed, inside.data(), counts, progress))
+  {
+    return -1;
+  }
+  return counts.Flipped;
+}
+
+int NoiseReach(double k, double wholeVoxels, double bound, int cap)
+{
   if (!(k > 0))
   {
     return 0;
   }
+  if (!(k < 1) || !(bound > 0) || !(wholeVoxels > 0))
+  {
+    return cap;
+  }
+  // N k^(1 + R) <= bound  <=>  R >= ln(bound / N) / ln k - 1 (ln k < 0).
+  const double r = std::ceil(std::log(bound / wholeVoxels) / std::log(k) - 1.0);
+  if (!(r < cap)) // NaN, or the whole volume anyway
+  {
+    return cap;
+  }
+  return std::max(1, static_cast<int>(r));
+}
+
+bool ApplyNoise(const std::uint8_t* inside, const NoiseBox& b, double k, std::uint64_t seed,
+  std::uint8_t* result, NoiseCounts& counts, const std::function<bool(double)>& progress)
+{
+  counts = NoiseCounts();
+  int dims[3], out[3], off[3];
+  std::int64_t whole[3];
+  unsigned openFaces = 0;
+  for (int a = 0; a < 3; ++a)
+  {
+    dims[a] = b.Box[2 * a + 1] - b.Box[2 * a] + 1;
+    out[a] = b.Out[2 * a + 1] - b.Out[2 * a] + 1;
+    off[a] = b.Out[2 * a] - b.Box[2 * a];
+    whole[a] = static_cast<std::int64_t>(b.Whole[2 * a + 1]) - b.Whole[2 * a] + 1;
+    openFaces |= (b.Box[2 * a] > b.Whole[2 * a] ? 1u : 0u) << (2 * a);
+    openFaces |= (b.Box[2 * a + 1] < b.Whole[2 * a + 1] ? 1u : 0u) << (2 * a + 1);
+  }
+  if (out[0] <= 0 || out[1] <= 0 || out[2] <= 0)
+  {
+    return true;
+  }
+  const std::int64_t outRow = out[0];
+  const auto boxIndex = [&](std::int64_t i, std::int64_t j, std::int64_t kz) {
+    return ((kz + off[2]) * dims[1] + (j + off[1])) * dims[0] + (i + off[0]);
+  };
+  if (!(k > 0))
+  {
+    if (result != inside)
+    {
+      for (std::int64_t kz = 0; kz < out[2]; ++kz)
+      {
+        for (std::int64_t j = 0; j < out[1]; ++j)
+        {
+          std::copy_n(inside + boxIndex(0, j, kz), outRow, result + (kz * out[1] + j) * outRow);
+        }
+      }
+    }
+    return true;
+  }
   std::vector<std::uint8_t> boundary;
-  BoundaryVoxels(inside, dims, boundary);
+  BoundaryVoxels(inside, dims, boundary, openFaces);
   if (progress && !progress(0.15))
   {
-    return -1;
+    return false;
   }
   std::vector<std::int64_t> d2;
   SquaredDistanceTransform(boundary, dims, d2);
+  std::vector<std::uint8_t>().swap(boundary);
   if (progress && !progress(0.75))
   {
-    return -1;
+    return false;
   }
-  const std::int64_t n = static_cast<std::int64_t>(inside.size());
   const double logk = std::log(k);
-  std::vector<std::int64_t> flips(static_cast<std::size_t>(dims[2]), 0);
-  const std::int64_t slice = static_cast<std::int64_t>(dims[0]) * dims[1];
-  vtkSMPTools::For(0, static_cast<std::int64_t>(dims[2]), [&](std::int64_t kb, std::int64_t ke) {
+  // k^(1 + d) from d^2, the one formula for every decision and bound.
+  const auto probability = [logk](std::int64_t squared) {
+    return std::exp(logk * (1.0 + std::sqrt(static_cast<double>(squared))));
+  };
+  // Beyond an open face (its own layer included) boundary voxels may lie
+  // unseen: a voxel whose distance within the box is larger than its
+  // distance to such a face may be nearer to the boundary than the box
+  // shows. No open face: every distance is the whole volume's.
+  const auto unseen = [&](std::int64_t i, std::int64_t j, std::int64_t kz) {
+    std::int64_t m = std::numeric_limits<std::int64_t>::max();
+    const std::int64_t p[3] = { i + off[0], j + off[1], kz + off[2] };
+    for (int a = 0; a < 3; ++a)
+    {
+      if (openFaces & (1u << (2 * a)))
+      {
+        m = std::min(m, p[a]);
+      }
+      if (openFaces & (2u << (2 * a)))
+      {
+        m = std::min(m, static_cast<std::int64_t>(dims[a] - 1) - p[a]);
+      }
+    }
+    return m;
+  };
+  std::vector<std::int64_t> flips(static_cast<std::size_t>(out[2]), 0);
+  std::vector<std::int64_t> uncertain(static_cast<std::size_t>(out[2]), 0);
+  vtkSMPTools::For(0, static_cast<std::int64_t>(out[2]), [&](std::int64_t kb, std::int64_t ke) {
     for (std::int64_t kz = kb; kz < ke; ++kz)
     {
-      std::int64_t count = 0;
-      for (std::int64_t p = kz * slice; p < std::min(n, (kz + 1) * slice); ++p)
+      std::int64_t count = 0, unsure = 0;
+      for (std::int64_t j = 0; j < out[1]; ++j)
       {
-        // k^(1 + d); k == 1 flips everything, as the formula says.
-        const double prob = std::exp(logk * (1.0 + std::sqrt(static_cast<double>(d2[p]))));
-        if (HashUniform(seed, static_cast<std::uint64_t>(p)) < prob)
+        // The draws are indexed in the whole volume, as one process's are.
+        const std::int64_t gRow =
+          ((b.Out[4] - b.Whole[4] + kz) * whole[1] + (b.Out[2] - b.Whole[2] + j)) * whole[0] +
+          (b.Out[0] - b.Whole[0]);
+        const std::int64_t src = boxIndex(0, j, kz);
+        const std::int64_t dst = (kz * out[1] + j) * outRow;
+        // The row's counted voxels: [c0, c1) (empty when the row is not).
+        const std::int64_t y = b.Out[2] + j, z = b.Out[4] + kz;
+        const bool rowCounted = y >= b.Counted[2] && y <= b.Counted[3] && z >= b.Counted[4] &&
+          z <= b.Counted[5];
+        const std::int64_t c0 = rowCounted
+          ? std::max<std::int64_t>(0, static_cast<std::int64_t>(b.Counted[0]) - b.Out[0])
+          : 0;
+        const std::int64_t c1 = rowCounted
+          ? std::min<std::int64_t>(outRow, static_cast<std::int64_t>(b.Counted[1]) - b.Out[0] + 1)
+          : 0;
+        for (std::int64_t i = 0; i < outRow; ++i)
         {
-          inside[p] = inside[p] ? 0 : 1;
-          ++count;
+          const std::int64_t d = d2[src + i];
+          // k^(1 + d); k == 1 flips everything, as the formula says.
+          const double prob = probability(d);
+          const double u = HashUniform(seed, static_cast<std::uint64_t>(gRow + i));
+          const std::uint8_t v = inside[src + i];
+          if (u < prob)
+          {
+            result[dst + i] = v ? 0 : 1;
+            count += i >= c0 && i < c1;
+          }
+          else
+          {
+            result[dst + i] = v;
+            if (openFaces)
+            {
+              const std::int64_t m = unseen(i, j, kz);
+              if (d > m * m && u < probability(m * m))
+              {
+                ++unsure;
+              }
+            }
+          }
         }
       }
       flips[kz] = count;
+      uncertain[kz] = unsure;
     }
   });
-  std::int64_t total = 0;
-  for (auto c : flips)
+  for (std::size_t z = 0; z < flips.size(); ++z)
   {
-    total += c;
+    counts.Flipped += flips[z];
+    counts.Uncertain += uncertain[z];
   }
-  return total;
+  return true;
 }
 
 } // namespace dg

@@ -191,14 +191,26 @@ int vtkDigitalIslandFilter::RequestData(
     return 0;
   }
   // The input's faces inside the whole extent are open: the volume goes on
-  // beyond them. Counts are of the requested box.
+  // beyond them. Counts are of the requested box within CountedExtent;
+  // outBox is the requested box in the window's indices.
   dg::ComponentWindow window;
+  int outBox[6];
+  bool countAll = true;
   for (int a = 0; a < 3; ++a)
   {
     window.OpenFaces |= (ext[2 * a] > whole[2 * a] ? 1u : 0u) << (2 * a);
     window.OpenFaces |= (ext[2 * a + 1] < whole[2 * a + 1] ? 1u : 0u) << (2 * a + 1);
-    window.Counted[2 * a] = out[2 * a] - ext[2 * a];
-    window.Counted[2 * a + 1] = out[2 * a + 1] - ext[2 * a];
+    outBox[2 * a] = out[2 * a] - ext[2 * a];
+    outBox[2 * a + 1] = out[2 * a + 1] - ext[2 * a];
+    window.Counted[2 * a] = std::max(out[2 * a], this->CountedExtent[2 * a]) - ext[2 * a];
+    window.Counted[2 * a + 1] =
+      std::min(out[2 * a + 1], this->CountedExtent[2 * a + 1]) - ext[2 * a];
+    countAll = countAll && window.Counted[2 * a] == 0 && window.Counted[2 * a + 1] == dims[a] - 1;
+  }
+  if (dg::ExtentEmpty(window.Counted))
+  {
+    const int none[6] = { 0, -1, 0, -1, 0, -1 };
+    std::copy(none, none + 6, window.Counted);
   }
   const bool sameBox = std::equal(out, out + 6, ext);
   const dg::VoxelSelection select{ this->SelectionMode, this->LowerThreshold,
@@ -217,7 +229,7 @@ int vtkDigitalIslandFilter::RequestData(
     vtkErrorMacro("Cannot select voxels: " << error << ".");
     return 0;
   }
-  if (!sameBox)
+  if (!countAll)
   {
     insideCount = 0;
     ForRows(dims, window.Counted, [&](std::int64_t first, std::int64_t n) {
@@ -260,7 +272,7 @@ int vtkDigitalIslandFilter::RequestData(
     box->SetNumberOfValues(static_cast<vtkIdType>(out[1] - out[0] + 1) * (out[3] - out[2] + 1) *
       (out[5] - out[4] + 1));
     std::uint8_t* dst = box->GetPointer(0);
-    ForRows(dims, window.Counted, [&](std::int64_t first, std::int64_t n) {
+    ForRows(dims, outBox, [&](std::int64_t first, std::int64_t n) {
       dst = std::copy(inside + first, inside + first + n, dst);
     });
     output->SetExtent(out);
@@ -295,6 +307,9 @@ void vtkDigitalIslandFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "UpperThreshold: " << this->UpperThreshold << "\n";
   os << indent << "Label: " << this->Label << "\n";
   os << indent << "SelectedComponent: " << this->SelectedComponent << "\n";
+  os << indent << "CountedExtent: " << this->CountedExtent[0] << " " << this->CountedExtent[1]
+     << " " << this->CountedExtent[2] << " " << this->CountedExtent[3] << " "
+     << this->CountedExtent[4] << " " << this->CountedExtent[5] << "\n";
   os << indent << "NumberOfRemovedIslands: " << this->NumberOfRemovedIslands << "\n";
   os << indent << "NumberOfFilledCavities: " << this->NumberOfFilledCavities << "\n";
   os << indent << "NumberOfChangedVoxels: " << this->NumberOfChangedVoxels << "\n";

@@ -63,9 +63,9 @@
  * layers included; the executive marks them in vtkGhostType (point and cell
  * arrays), and the filter asks its input for that box grown by R, so ghost
  * voxels are exact too. The counts (Get methods and field data) are those
- * of the requested box: components whose first voxel (x fastest) lies in
- * it, changed voxels in it; over disjoint boxes (dg::PieceExtent) they add
- * up to the whole image's. An empty requested extent gives an empty image,
+ * of the requested box (within CountedExtent): components whose first
+ * voxel (x fastest) lies in it, changed voxels in it; over disjoint boxes
+ * (dg::PieceExtent) they add up to the whole image's. An empty requested extent gives an empty image,
  * no error. On the whole extent nothing of this applies: the output is
  * the one of a single run.
  */
@@ -155,9 +155,23 @@ public:
 
   ///@{
   /**
+   * The box whose components and voxels the counts below count: the
+   * requested extent inside CountedExtent (by default everything, i.e. the
+   * requested extent). A piece whose requested extent overlaps its
+   * neighbours' (a downstream filter's ghost layers) sets its own voxels
+   * (dg::PieceExtent) here, so that the pieces' counts add up to the whole
+   * image's.
+   */
+  vtkSetVector6Macro(CountedExtent, int);
+  vtkGetVector6Macro(CountedExtent, int);
+  ///@}
+
+  ///@{
+  /**
    * What the last execution did: islands removed, cavities filled, and the
    * voxels whose value differs from the input's selection (an island voxel
-   * inside a filled cavity ends up inside again and does not count).
+   * inside a filled cavity ends up inside again and does not count), in
+   * the requested extent and CountedExtent.
    */
   vtkGetMacro(NumberOfRemovedIslands, vtkIdType);
   vtkGetMacro(NumberOfFilledCavities, vtkIdType);
@@ -187,6 +201,8 @@ protected:
   double UpperThreshold = VTK_DOUBLE_MAX;
   double Label = 1.0;
   int SelectedComponent = -1;
+  int CountedExtent[6] = { VTK_INT_MIN, VTK_INT_MAX, VTK_INT_MIN, VTK_INT_MAX, VTK_INT_MIN,
+    VTK_INT_MAX };
   vtkIdType NumberOfRemovedIslands = 0;
   vtkIdType NumberOfFilledCavities = 0;
   vtkIdType NumberOfChangedVoxels = 0;

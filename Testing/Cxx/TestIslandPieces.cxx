@@ -232,6 +232,11 @@ TEST(IslandFilter, PieceRequestsWithGhostLayers)
   int whole[6] = { 0, 39, 0, 39, 0, 39 };
   for (int n : { 2, 3, 4 })
     for (int ghosts : { 0, 1, 3 })
+    {
+      // The pieces overlap (by cells, and their ghost layers): counted on
+      // each piece's own voxels (CountedExtent, dg::PieceExtent) they add
+      // up to the whole run's.
+      vtkIdType sums[3] = {};
       for (int p = 0; p < n; ++p)
       {
         SCOPED_TRACE(testing::Message() << "piece " << p << " of " << n << " ghosts " << ghosts);
@@ -244,7 +249,13 @@ TEST(IslandFilter, PieceRequestsWithGhostLayers)
         reader->SetFileName(path.c_str());
         vtkNew<vtkDigitalIslandFilter> f;
         f->SetInputConnection(reader->GetOutputPort());
+        int counted[6];
+        dg::PieceExtent(whole, p, n, counted);
+        f->SetCountedExtent(counted);
         ASSERT_TRUE(f->UpdatePiece(p, n, ghosts));
+        sums[0] += f->GetNumberOfRemovedIslands();
+        sums[1] += f->GetNumberOfFilledCavities();
+        sums[2] += f->GetNumberOfChangedVoxels();
         vtkImageData* out = f->GetOutput();
         ASSERT_EQ(ExtentOf(out), std::vector<int>(expected, expected + 6));
         int grown[6];
@@ -272,6 +283,10 @@ TEST(IslandFilter, PieceRequestsWithGhostLayers)
         EXPECT_EQ(marked, outside);
         EXPECT_GT(marked, 0);
       }
+      EXPECT_EQ(sums[0], ref.Islands) << n << " pieces, " << ghosts << " ghost levels";
+      EXPECT_EQ(sums[1], ref.Cavities) << n << " pieces, " << ghosts << " ghost levels";
+      EXPECT_EQ(sums[2], ref.Changed) << n << " pieces, " << ghosts << " ghost levels";
+    }
 }
 
 TEST(IslandFilter, SubExtentOfALargerInput)
