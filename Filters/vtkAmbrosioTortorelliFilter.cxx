@@ -1,5 +1,6 @@
 #include "vtkAmbrosioTortorelliFilter.h"
 
+#include "dgLineCells.h"
 #include "dgATMetric.h"
 #include "dgATOperators.h"
 #include "dgATSolver.h"
@@ -12,7 +13,6 @@
 #include <vtkDataArray.h>
 #include <vtkDataArrayRange.h>
 #include <vtkDoubleArray.h>
-#include <vtkIdTypeArray.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
 #include <vtkObjectFactory.h>
@@ -448,27 +448,18 @@ int vtkAmbrosioTortorelliFilter::RequestData(vtkInformation*,
       selected.push_back(static_cast<vtkIdType>(e));
     }
   }
-  const vtkIdType nLines = static_cast<vtkIdType>(selected.size());
-  vtkNew<vtkIdTypeArray> lineOffsets, lineConn;
-  lineOffsets->SetNumberOfValues(nLines + 1);
-  lineConn->SetNumberOfValues(2 * nLines);
-  vtkNew<vtkDoubleArray> lineV;
-  lineV->SetName("ATFeatureIndicator");
-  lineV->SetNumberOfTuples(nLines);
-  for (vtkIdType l = 0; l < nLines; ++l)
+  std::vector<vtkIdType> ends(2 * selected.size());
+  std::vector<double> lineV(selected.size());
+  for (std::size_t l = 0; l < selected.size(); ++l)
   {
     const int a = edges[2 * selected[l]], b = edges[2 * selected[l] + 1];
-    lineOffsets->SetValue(l, 2 * l);
-    lineConn->SetValue(2 * l, a);
-    lineConn->SetValue(2 * l + 1, b);
-    lineV->SetValue(l, std::max(v[a], v[b]));
+    ends[2 * l] = a;
+    ends[2 * l + 1] = b;
+    lineV[l] = std::max(v[a], v[b]);
   }
-  lineOffsets->SetValue(nLines, 2 * nLines);
-  vtkNew<vtkCellArray> lines;
-  lines->SetData(lineOffsets, lineConn);
   features->SetPoints(input->GetPoints());
-  features->SetLines(lines);
-  features->GetCellData()->AddArray(lineV);
+  features->SetLines(dg::TwoPointLines(ends));
+  features->GetCellData()->AddArray(dg::LineValues("ATFeatureIndicator", lineV));
   this->UpdateProgress(1.0);
   return 1;
 }

@@ -4,6 +4,7 @@
 // execution only, the one-process one is in vtkAmbrosioTortorelliFilter.cxx.
 #include "vtkAmbrosioTortorelliFilter.h"
 
+#include "dgLineCells.h"
 #include "dgPieces.h"
 
 #include "dgATHalo.h"
@@ -360,12 +361,11 @@ int vtkAmbrosioTortorelliFilter::RequestDataPieces(vtkMultiProcessController* co
   const double th = this->FeatureThreshold;
   vtkNew<vtkPoints> linePoints;
   linePoints->SetDataType(points->GetDataType());
-  vtkNew<vtkIdTypeArray> lineIds, lineOffsets, lineConn;
+  vtkNew<vtkIdTypeArray> lineIds;
   lineIds->SetName("GlobalIds");
-  vtkNew<vtkDoubleArray> lineV;
-  lineV->SetName("ATFeatureIndicator");
+  std::vector<vtkIdType> ends;
+  std::vector<double> lineV;
   std::vector<vtkIdType> lineRow(halo.VertexRows.size(), -1);
-  lineOffsets->InsertNextValue(0);
   for (std::int64_t e = 0; e < complex.NumberOfEdges(); ++e)
   {
     const int a = complex.EdgeVertices[2 * e], b = complex.EdgeVertices[2 * e + 1];
@@ -381,16 +381,13 @@ int vtkAmbrosioTortorelliFilter::RequestDataPieces(vtkMultiProcessController* co
         lineRow[end] = linePoints->InsertNextPoint(input->GetPoint(halo.VertexRows[end]));
         lineIds->InsertNextValue(pointGids[halo.VertexRows[end]]);
       }
-      lineConn->InsertNextValue(lineRow[end]);
+      ends.push_back(lineRow[end]);
     }
-    lineOffsets->InsertNextValue(lineConn->GetNumberOfValues());
-    lineV->InsertNextValue(std::max(v[a], v[b]));
+    lineV.push_back(std::max(v[a], v[b]));
   }
-  vtkNew<vtkCellArray> lines;
-  lines->SetData(lineOffsets, lineConn);
   features->SetPoints(linePoints);
-  features->SetLines(lines);
-  features->GetCellData()->AddArray(lineV);
+  features->SetLines(dg::TwoPointLines(ends));
+  features->GetCellData()->AddArray(dg::LineValues("ATFeatureIndicator", lineV));
   features->GetPointData()->SetGlobalIds(lineIds);
   this->FieldScale = scale;
   ++this->NumberOfSolves;

@@ -1,5 +1,6 @@
 #include "vtkCorrectedCurvatureFilter.h"
 
+#include "dgLineCells.h"
 #include "dgCorrectedCurvature.h"
 #include "dgCurvatureHalo.h"
 #include "dgPieces.h"
@@ -12,7 +13,6 @@
 #include <vtkDataArrayRange.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
-#include <vtkIdTypeArray.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
 #include <vtkMultiProcessController.h>
@@ -374,27 +374,18 @@ int vtkCorrectedCurvatureFilter::RequestData(
 
   // Port 1: the crease edges this piece reports, on the input's points
   // (a reported edge belongs to an own face, so its points are the input's).
-  const vtkIdType nLines = static_cast<vtkIdType>(res.CreaseAngle.size());
-  vtkNew<vtkIdTypeArray> lineOffsets, lineConn;
-  lineOffsets->SetNumberOfValues(nLines + 1);
-  lineConn->SetNumberOfValues(2 * nLines);
-  vtkNew<vtkDoubleArray> angle;
-  angle->SetName("CreaseAngle");
-  angle->SetNumberOfValues(nLines);
-  for (vtkIdType l = 0; l < nLines; ++l)
+  std::vector<vtkIdType> ends(2 * res.CreaseAngle.size());
+  std::vector<double> degrees(res.CreaseAngle.size());
+  for (std::size_t l = 0; l < degrees.size(); ++l)
   {
-    lineOffsets->SetValue(l, 2 * l);
-    lineConn->SetValue(2 * l, res.CreaseEdges[2 * l]);
-    lineConn->SetValue(2 * l + 1, res.CreaseEdges[2 * l + 1]);
-    angle->SetValue(l, res.CreaseAngle[l] * 180.0 / M_PI);
+    ends[2 * l] = static_cast<vtkIdType>(res.CreaseEdges[2 * l]);
+    ends[2 * l + 1] = static_cast<vtkIdType>(res.CreaseEdges[2 * l + 1]);
+    degrees[l] = res.CreaseAngle[l] * 180.0 / M_PI;
   }
-  lineOffsets->SetValue(nLines, 2 * nLines);
-  vtkNew<vtkCellArray> ca;
-  ca->SetData(lineOffsets, lineConn);
   lines->SetPoints(input->GetPoints());
   lines->GetPointData()->PassData(input->GetPointData());
-  lines->SetLines(ca);
-  lines->GetCellData()->AddArray(angle);
+  lines->SetLines(dg::TwoPointLines(ends));
+  lines->GetCellData()->AddArray(dg::LineValues("CreaseAngle", degrees));
   lines->GetCellData()->SetActiveScalars("CreaseAngle");
   this->UpdateProgress(1.0);
   return 1;

@@ -1,5 +1,6 @@
 #include "vtkPiecewiseSmoothMeshFilter.h"
 
+#include "dgLineCells.h"
 #include "dgPiecewiseSmoothMesh.h"
 #include "dgPieces.h"
 #include "dgPipelineAbort.h"
@@ -431,12 +432,8 @@ int vtkPiecewiseSmoothMeshFilter::RequestData(
     const vtkIdType nLines = static_cast<vtkIdType>(kept.size() / 4);
     std::vector<vtkIdType> used(nLocalPoints, -1);
     std::vector<std::int64_t> linePoint;
-    vtkNew<vtkIdTypeArray> lineOffsets, lineConn;
-    lineOffsets->SetNumberOfValues(nLines + 1);
-    lineConn->SetNumberOfValues(2 * nLines);
-    vtkNew<vtkDoubleArray> angle;
-    angle->SetName("FeatureAngle");
-    angle->SetNumberOfValues(nLines);
+    std::vector<vtkIdType> ends(2 * nLines);
+    std::vector<double> angle(nLines);
     for (vtkIdType l = 0; l < nLines; ++l)
     {
       for (int k = 0; k < 2; ++k)
@@ -447,24 +444,20 @@ int vtkPiecewiseSmoothMeshFilter::RequestData(
           used[p] = static_cast<vtkIdType>(linePoint.size());
           linePoint.push_back(p);
         }
-        lineConn->SetValue(2 * l + k, used[p]);
+        ends[2 * l + k] = used[p];
       }
-      lineOffsets->SetValue(l, 2 * l);
       const double* a = &local.Normals[3 * kept[4 * l + 2]];
       const double* b = &local.Normals[3 * kept[4 * l + 3]];
       const double dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-      angle->SetValue(l, std::acos(std::max(-1.0, std::min(1.0, dot))) * 180.0 / M_PI);
+      angle[l] = std::acos(std::max(-1.0, std::min(1.0, dot))) * 180.0 / M_PI;
     }
-    lineOffsets->SetValue(nLines, 2 * nLines);
     vtkNew<vtkPoints> pts;
     pts->SetDataTypeToDouble();
     pts->SetNumberOfPoints(static_cast<vtkIdType>(linePoint.size()));
     for (std::size_t i = 0; i < linePoint.size(); ++i)
       pts->SetPoint(static_cast<vtkIdType>(i), &moved[3 * linePoint[i]]);
-    vtkNew<vtkCellArray> ca;
-    ca->SetData(lineOffsets, lineConn);
     lines->SetPoints(pts);
-    lines->SetLines(ca);
+    lines->SetLines(dg::TwoPointLines(ends));
     if (!local.GlobalPoint.empty())
     {
       vtkNew<vtkIdTypeArray> gid;
@@ -474,7 +467,7 @@ int vtkPiecewiseSmoothMeshFilter::RequestData(
         gid->SetValue(static_cast<vtkIdType>(i), local.GlobalPoint[linePoint[i]]);
       lines->GetPointData()->SetGlobalIds(gid);
     }
-    lines->GetCellData()->AddArray(angle);
+    lines->GetCellData()->AddArray(dg::LineValues("FeatureAngle", angle));
     lines->GetCellData()->SetActiveScalars("FeatureAngle");
     double count = static_cast<double>(nLines);
     if (controller)

@@ -1,5 +1,6 @@
 #include "vtkSharpFeaturesFilter.h"
 
+#include "dgLineCells.h"
 #include "dgPieces.h"
 #include "dgPipelineAbort.h"
 #include "dgSharpFeatures.h"
@@ -10,7 +11,6 @@
 #include <vtkDataArrayRange.h>
 #include <vtkMultiProcessController.h>
 #include <vtkDoubleArray.h>
-#include <vtkIdTypeArray.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
 #include <vtkIntArray.h>
@@ -336,26 +336,13 @@ int vtkSharpFeaturesFilter::Execute(vtkPolyData* input, vtkPolyData* output, vtk
   output->GetCellData()->SetActiveNormals("SharpNormals");
   output->GetCellData()->AddArray(region);
 
-  const vtkIdType nLines = static_cast<vtkIdType>(res.FeatureEdges.size());
-  vtkNew<vtkIdTypeArray> lineOffsets, lineConn;
-  lineOffsets->SetNumberOfValues(nLines + 1);
-  lineConn->SetNumberOfValues(2 * nLines);
-  vtkNew<vtkDoubleArray> angle;
-  angle->SetName("FeatureAngle");
-  angle->SetNumberOfTuples(nLines);
-  for (vtkIdType l = 0; l < nLines; ++l)
-  {
-    lineOffsets->SetValue(l, 2 * l);
-    lineConn->SetValue(2 * l, res.FeatureEdges[l][0]);
-    lineConn->SetValue(2 * l + 1, res.FeatureEdges[l][1]);
-    angle->SetValue(l, res.FeatureAngle[l]);
-  }
-  lineOffsets->SetValue(nLines, 2 * nLines);
-  vtkNew<vtkCellArray> ca;
-  ca->SetData(lineOffsets, lineConn);
+  std::vector<vtkIdType> ends;
+  ends.reserve(2 * res.FeatureEdges.size());
+  for (const auto& e : res.FeatureEdges)
+    ends.insert(ends.end(), { static_cast<vtkIdType>(e[0]), static_cast<vtkIdType>(e[1]) });
   lines->SetPoints(input->GetPoints());
-  lines->SetLines(ca);
-  lines->GetCellData()->AddArray(angle);
+  lines->SetLines(dg::TwoPointLines(ends));
+  lines->GetCellData()->AddArray(dg::LineValues("FeatureAngle", res.FeatureAngle));
   this->UpdateProgress(1.0);
   return 1;
 }

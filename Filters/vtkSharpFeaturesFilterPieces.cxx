@@ -9,6 +9,7 @@
 // scaling.
 #include "vtkSharpFeaturesFilter.h"
 
+#include "dgLineCells.h"
 #include "dgPieces.h"
 
 #include <vtkCellArray.h>
@@ -18,7 +19,6 @@
 #include <vtkDataArrayRange.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
-#include <vtkIdTypeArray.h>
 #include <vtkInformation.h>
 #include <vtkIntArray.h>
 #include <vtkMultiProcessController.h>
@@ -460,27 +460,13 @@ int vtkSharpFeaturesFilter::RequestDataPieces(vtkMultiProcessController* control
   std::unordered_map<vtkIdType, vtkIdType> local;
   for (vtkIdType p = 0; pointIds && p < nPoints; ++p)
     local[static_cast<vtkIdType>(pointIds->GetComponent(p, 0))] = p;
-  const vtkIdType nLines = static_cast<vtkIdType>(myLineAngles.size());
-  vtkNew<vtkIdTypeArray> lineOffsets, lineConn;
-  lineOffsets->SetNumberOfValues(nLines + 1);
-  lineConn->SetNumberOfValues(2 * nLines);
-  vtkNew<vtkDoubleArray> angle;
-  angle->SetName("FeatureAngle");
-  angle->SetNumberOfTuples(nLines);
-  for (vtkIdType l = 0; l < nLines; ++l)
-  {
-    lineOffsets->SetValue(l, 2 * l);
-    lineConn->SetValue(2 * l, local.at(myLineIds[2 * l]));
-    lineConn->SetValue(2 * l + 1, local.at(myLineIds[2 * l + 1]));
-    angle->SetValue(l, myLineAngles[l]);
-  }
-  lineOffsets->SetValue(nLines, 2 * nLines);
-  vtkNew<vtkCellArray> ca;
-  ca->SetData(lineOffsets, lineConn);
+  std::vector<vtkIdType> ends(myLineIds.size());
+  for (std::size_t i = 0; i < myLineIds.size(); ++i)
+    ends[i] = local.at(myLineIds[i]);
   lines->SetPoints(input->GetPoints());
   lines->GetPointData()->PassData(input->GetPointData());
-  lines->SetLines(ca);
-  lines->GetCellData()->AddArray(angle);
+  lines->SetLines(dg::TwoPointLines(ends));
+  lines->GetCellData()->AddArray(dg::LineValues("FeatureAngle", myLineAngles));
   this->UpdateProgress(1.0);
   return 1;
 }
