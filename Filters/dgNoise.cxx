@@ -210,8 +210,12 @@ bool ApplyNoise(const std::uint8_t* inside, const NoiseBox& b, double k, std::ui
     out[a] = b.Out[2 * a + 1] - b.Out[2 * a] + 1;
     off[a] = b.Out[2 * a] - b.Box[2 * a];
     whole[a] = static_cast<std::int64_t>(b.Whole[2 * a + 1]) - b.Whole[2 * a] + 1;
-    openFaces |= (b.Box[2 * a] > b.Whole[2 * a] ? 1u : 0u) << (2 * a);
-    openFaces |= (b.Box[2 * a + 1] < b.Whole[2 * a + 1] ? 1u : 0u) << (2 * a + 1);
+    // (GCC 12 at -O2 with the sanitizers dropped these bits when written as
+    // (c ? 1u : 0u) << n: every box then looked closed, TestNoisePieces.)
+    if (b.Box[2 * a] > b.Whole[2 * a])
+      openFaces |= 1u << (2 * a);
+    if (b.Box[2 * a + 1] < b.Whole[2 * a + 1])
+      openFaces |= 2u << (2 * a);
   }
   if (out[0] <= 0 || out[1] <= 0 || out[2] <= 0)
   {
