@@ -598,19 +598,7 @@ int main(int argc, char* argv[])
             name.c_str(), n, k, seeds[si], mS.Describe().c_str(),
             static_cast<long long>(sharp->GetNumberOfBandFaces()),
             static_cast<long long>(sharp->GetNumberOfUnassignedFaces()), sharp->GetNumberOfRegions(), s);
-          if (const char* dump = std::getenv("DG_DUMP"))
-          {
-            vtkNew<vtkXMLPolyDataWriter> w;
-            w->SetInputData(sharp->GetOutput(0));
-            w->SetFileName((std::string(dump) + "_surface.vtp").c_str());
-            w->Write();
-            w->SetInputData(sharp->GetOutput(1));
-            w->SetFileName((std::string(dump) + "_lines.vtp").c_str());
-            w->Write();
-            w->SetInputData(at->GetOutput(1));
-            w->SetFileName((std::string(dump) + "_atlines.vtp").c_str());
-            w->Write();
-          }
+          Dump(sharp, at);
           if (std::getenv("DG_PROFILE"))
           {
             vtkPolyData* l = sharp->GetOutput(1);

@@ -13,6 +13,7 @@
 #include <vtkSmartPointer.h>
 #include <vtkExtentTranslator.h>
 #include <vtkInformation.h>
+#include <vtkInformationIntegerRequestKey.h>
 #include <vtkMultiProcessController.h>
 #include <vtkNew.h>
 #include <vtkStreamingDemandDrivenPipeline.h>
@@ -238,5 +239,44 @@ vtkSmartPointer<vtkPolyData> WithoutGhostCells(vtkPolyData* input)
   output->GetCellData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
   output->GetFieldData()->ShallowCopy(input->GetFieldData());
   return output;
+}
+
+bool RequestedImageBox(vtkInformation* inInfo, vtkInformation* outInfo, int whole[6], int requested[6])
+{
+  using SDDP = vtkStreamingDemandDrivenPipeline;
+  if (!inInfo || !inInfo->Has(SDDP::WHOLE_EXTENT()))
+    return false;
+  inInfo->Get(SDDP::WHOLE_EXTENT(), whole);
+  std::copy(whole, whole + 6, requested);
+  if (outInfo && outInfo->Has(SDDP::UPDATE_EXTENT()))
+    outInfo->Get(SDDP::UPDATE_EXTENT(), requested);
+  const int pieces = outInfo && outInfo->Has(SDDP::UPDATE_NUMBER_OF_PIECES())
+    ? outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES())
+    : 1;
+  if (pieces > 1)
+  {
+    // The executive splits the requested extent just before RequestData
+    // (vtkStreamingDemandDrivenPipeline::ExecuteDataStart), by cells,
+    // ghost levels included; the same here.
+    const int piece = outInfo->Get(SDDP::UPDATE_PIECE_NUMBER());
+    const int ghosts = outInfo->Get(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS());
+    vtkInformationIntegerKey* splitKey = vtkExtentTranslator::UPDATE_SPLIT_MODE();
+    const int mode =
+      outInfo->Has(splitKey) ? outInfo->Get(splitKey) : vtkExtentTranslator::BLOCK_MODE;
+    int all[6];
+    std::copy(requested, requested + 6, all);
+    vtkNew<vtkExtentTranslator> translator;
+    translator->PieceToExtentThreadSafe(piece, pieces, ghosts, all, requested, mode, 0);
+  }
+  return true;
+}
+
+void RequestImageBox(vtkInformation* inInfo, const int box[6])
+{
+  using SDDP = vtkStreamingDemandDrivenPipeline;
+  inInfo->Set(SDDP::UPDATE_EXTENT(), box, 6);
+  inInfo->Set(SDDP::UPDATE_PIECE_NUMBER(), 0);
+  inInfo->Set(SDDP::UPDATE_NUMBER_OF_PIECES(), 1);
+  inInfo->Set(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
 }
 } // namespace dg

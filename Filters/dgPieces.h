@@ -66,6 +66,17 @@ void CopyExtent(const void* src, const int extent[6], const int box[6], std::siz
 /// as image's.
 void CropImageToExtent(vtkImageData* image, const int box[6], vtkImageData* output);
 
+/// For an image filter that produces sub-extents and reads a grown box: the
+/// whole extent of its input and the box its RequestData will be asked for
+/// (outInfo's update extent, split by piece and ghost levels as the
+/// executive splits it just before RequestData). False when the input has no
+/// whole extent yet.
+bool RequestedImageBox(vtkInformation* inInfo, vtkInformation* outInfo, int whole[6], int requested[6]);
+
+/// Asks upstream for exactly `box`, as one piece without ghost levels (a
+/// reader or another sub-extent source would otherwise split it again).
+void RequestImageBox(vtkInformation* inInfo, const int box[6]);
+
 /// The cells of `input` not marked as ghosts (DUPLICATECELL or HIDDENCELL),
 /// with only the points they use and their cell and point data (global ids
 /// included), in input order; null when `input` has no ghost cell. For a

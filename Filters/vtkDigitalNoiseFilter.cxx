@@ -5,10 +5,8 @@
 #include "dgPipelineAbort.h"
 #include "dgVoxelSelection.h"
 
-#include <vtkExtentTranslator.h>
 #include <vtkImageData.h>
 #include <vtkInformation.h>
-#include <vtkInformationIntegerRequestKey.h>
 #include <vtkInformationVector.h>
 #include <vtkNew.h>
 #include <vtkObjectFactory.h>
@@ -79,47 +77,17 @@ int vtkDigitalNoiseFilter::RequestUpdateExtent(
   // boundary (dg::NoiseReach): what lies beyond changes a voxel's decision
   // with a probability below UncertaintyBound over the whole volume.
   vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  if (!inInfo || !inInfo->Has(SDDP::WHOLE_EXTENT()))
+  int whole[6], requested[6], grown[6];
+  if (!dg::RequestedImageBox(inInfo, outputVector->GetInformationObject(0), whole, requested))
   {
     return 1;
-  }
-  int whole[6], requested[6], grown[6];
-  inInfo->Get(SDDP::WHOLE_EXTENT(), whole);
-  std::copy(whole, whole + 6, requested);
-  if (outInfo && outInfo->Has(SDDP::UPDATE_EXTENT()))
-  {
-    outInfo->Get(SDDP::UPDATE_EXTENT(), requested);
-  }
-  const int pieces = outInfo && outInfo->Has(SDDP::UPDATE_NUMBER_OF_PIECES())
-    ? outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES())
-    : 1;
-  if (pieces > 1)
-  {
-    // The box RequestData will be asked for: the executive splits the
-    // requested extent just before it (vtkStreamingDemandDrivenPipeline::
-    // ExecuteDataStart), by cells, ghost levels included; the same here.
-    const int piece = outInfo->Get(SDDP::UPDATE_PIECE_NUMBER());
-    const int ghosts = outInfo->Get(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS());
-    vtkInformationIntegerKey* splitKey = vtkExtentTranslator::UPDATE_SPLIT_MODE();
-    const int mode =
-      outInfo->Has(splitKey) ? outInfo->Get(splitKey) : vtkExtentTranslator::BLOCK_MODE;
-    int all[6];
-    std::copy(requested, requested + 6, all);
-    vtkNew<vtkExtentTranslator> translator;
-    translator->PieceToExtentThreadSafe(piece, pieces, ghosts, all, requested, mode, 0);
   }
   double voxels;
   int largest;
   WholeSize(whole, voxels, largest);
   this->Reach = this->ComputeReach(voxels, largest);
   dg::GrowExtent(requested, this->Reach, whole, grown);
-  // Exactly that box from upstream: as one piece, which a reader or
-  // another sub-extent source would otherwise split again.
-  inInfo->Set(SDDP::UPDATE_EXTENT(), grown, 6);
-  inInfo->Set(SDDP::UPDATE_PIECE_NUMBER(), 0);
-  inInfo->Set(SDDP::UPDATE_NUMBER_OF_PIECES(), 1);
-  inInfo->Set(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+  dg::RequestImageBox(inInfo, grown);
   return 1;
 }
 

@@ -316,13 +316,14 @@ int vtkSharpFeaturesFilter::RequestDataPieces(vtkMultiProcessController* control
       // Then each process's ghost faces, in the order it listed them (faces
       // is sorted by gid); a ghost no process owns keeps region -2 and the
       // receiver its own values.
-      for (int r = 0, k = 0; r < size; ++r)
-        for (vtkIdType g = 0; g < nGhostIds[r]; ++g, ++k)
+      vtkIdType listed = 0; // index in allGhostIds
+      for (int r = 0; r < size; ++r)
+        for (vtkIdType g = 0; g < nGhostIds[r]; ++g, ++listed)
         {
           double* o = &faceResults[r][4 * (nFaceValues[r] / per + g)];
-          const auto it = std::lower_bound(faces.begin(), faces.end(), allGhostIds[k],
+          const auto it = std::lower_bound(faces.begin(), faces.end(), allGhostIds[listed],
             [](const Face& a, vtkIdType gid) { return a.Gid < gid; });
-          if (it == faces.end() || it->Gid != allGhostIds[k])
+          if (it == faces.end() || it->Gid != allGhostIds[listed])
           {
             o[3] = -2;
             continue;
