@@ -68,7 +68,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
   graph.Build(offsets, connectivity);
 
   // Face centres, polygon normals (Newell) and unit field normals.
-  std::vector<Vec3> centre(F), polyNormal(F), field(F), input(F);
+  std::vector<Vec3> centre(F), polyNormal(F), areaVector(F), field(F), input(F);
   vtkSMPTools::For(0, F, [&](std::int64_t b, std::int64_t e) {
     for (std::int64_t f = b; f < e; ++f)
     {
@@ -83,6 +83,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       }
       centre[f] = m > 0 ? c * (1.0 / m) : c;
       polyNormal[f] = n.Unit();
+      areaVector[f] = n * 0.5;
       field[f] = Vec3(normals[3 * f], normals[3 * f + 1], normals[3 * f + 2]).Unit();
       input[f] = inputNormals
         ? Vec3(inputNormals[3 * f], inputNormals[3 * f + 1], inputNormals[3 * f + 2]).Unit()
@@ -684,10 +685,15 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
     cs.Far = cs.Near + 5.0 * meanEdge2;
     cs.MinimumAngle = par.MinimumFeatureAngle;
     cs.CornerDepth = par.CornerDepth * meanEdge2;
+    cs.MinimumTurnShare = par.MinimumTurnShare;
     cs.EdgeLength = meanEdge2;
+    cs.TurnNear *= meanEdge2;
+    cs.TurnFarFrom *= meanEdge2;
+    cs.TurnFar *= meanEdge2;
+    cs.TurnSlab *= meanEdge2;
     const auto creaseStart = std::chrono::steady_clock::now();
     const std::vector<CreaseVerdict> verdicts =
-      TestCreases(graph, centre, input, out, group, cornerDepth, cs);
+      TestCreases(graph, centre, areaVector, input, out, group, cornerDepth, cs);
     result.CreaseTestSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - creaseStart).count();
     for (auto& a : apart)

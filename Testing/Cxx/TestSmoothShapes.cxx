@@ -84,16 +84,6 @@ TEST_P(SmoothShapes, NoInventedFeaturesNeverWorseThanTheInput)
     c.Mean = clean.InputMean + 0.5;
     c.P95 = clean.InputP95 + 0.5;
   }
-  // fillet6 at 128^3 keeps one false line (a boundary on a corner patch
-  // whose band reaches within 0.44 edge of the corner): measured 10.6 and
-  // 6.8 %, the bound 12 and 8 %.
-  if (name == "fillet6" && n == 128)
-  {
-    c.Features = 12;
-    c.Worse = 8;
-    c.Mean = 4.5;
-    c.P95 = 23;
-  }
   EXPECT_LE(clean.FeaturesPer1000, c.Features);
   EXPECT_LE(clean.WorseShare, c.Worse);
   EXPECT_LE(clean.Mean, c.Mean);
@@ -118,12 +108,13 @@ TEST_P(SmoothShapes, NoInventedFeaturesNeverWorseThanTheInput)
     {
       // Fillets at k = 0.3 (docs/quality.md): radius 10 at 128^3 meets the
       // line and "worse" targets; radius 4-6, and radius 10 on the 64^3
-      // box, whose flat faces are only 4-9 voxels wide, do not. Bound: not worse than the
-      // program before this stage's crease test (the table:
-      // 34-71 per 1000, 11-21 %), measured up to 41.5 and 20 %.
-      b.Features = 45;
-      b.Worse = 22;
-      b.Ratio = 1.6;
+      // box, whose flat faces are only 4-9 voxels wide, do not (one seed of
+      // two keeps lines). Bound: the worst measured (fillet6 64^3: 34.6 per
+      // 1000, 16.1 %, mean 1.35 times the input's; before the voxel-scale
+      // turn test 41.5, 19.9 %, 1.53) with a margin.
+      b.Features = 38;
+      b.Worse = 18;
+      b.Ratio = 1.45;
       if (name == "fillet10" && n == 128)
       {
         // Meets the line and "worse" targets; the mean ratio measured
