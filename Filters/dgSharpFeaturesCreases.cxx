@@ -188,6 +188,8 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
   std::vector<std::int64_t> reached;
   std::vector<SideFit> fits(F);
   std::vector<TurnSums> turns(F);
+  std::vector<char> turnSeed(F, 0);
+  constexpr std::size_t TurnSamples = 16;
   vtkSMPThreadLocal<FitScratch> scratch;
   std::vector<CreaseVerdict> verdicts;
   const bool turn = settings.MinimumTurnShare > 0;
@@ -215,6 +217,14 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
           reached.push_back(f);
         }
     const std::vector<std::int64_t> seeds(reached);
+    // The turn's medians need no more than about TurnSamples edges per
+    // line: every stride-th edge's two faces measure it.
+    if (turn)
+    {
+      const std::size_t stride = std::max<std::size_t>(1, line.second.size() / TurnSamples);
+      for (std::size_t k = 0; k < line.second.size(); k += stride)
+        turnSeed[line.second[k].A] = turnSeed[line.second[k].B] = 1;
+    }
     for (std::size_t h = 0; h < reached.size(); ++h)
     {
       const std::int64_t f = reached[h];
@@ -243,7 +253,8 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
         s.Faces.clear();
         s.Turn.clear();
         s.Line.clear();
-        Breadth(graph, s, f0, steps, [&](std::int64_t g) { return seedOf[g] >= 0; },
+        const bool measure = turnSeed[f0] != 0;
+        Breadth(graph, s, f0, measure ? steps : fitSteps, [&](std::int64_t g) { return seedOf[g] >= 0; },
           [&](std::int64_t f, int depth, int limit) {
             // Faces turned away from the line face (the far side of a part
             // thinner than the window) are not this side's surface.
@@ -253,16 +264,16 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
               s.Faces.push_back(f);
             // Only the side's own part: past a narrow side another part
             // (across its other line) is not the surface that turns here.
-            if (turn && group[f] == group[f0] && distance[f] <= settings.TurnFar && facing)
+            if (measure && group[f] == group[f0] && distance[f] <= settings.TurnFar && facing)
               s.Turn.push_back(f);
-            if (seedOf[f] == f && (centre[f] - centre[f0]).Norm() <= tangentReach)
+            if (measure && seedOf[f] == f && (centre[f] - centre[f0]).Norm() <= tangentReach)
               s.Line.push_back(f);
             return limit;
           });
         fits[f0] = static_cast<int>(s.Faces.size()) >= settings.MinimumFit
           ? FitSide(s.Faces, centre, input, centre[f0])
           : SideFit();
-        turns[f0] = turn
+        turns[f0] = measure
           ? MeasureTurn(centre, area, centre[f0], s.Line, s.Turn, settings)
           : TurnSums();
       }
@@ -327,6 +338,7 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
       seedOf[f] = -1;
       side[f] = 0;
       distance[f] = -1.0f;
+      turnSeed[f] = 0;
     }
   }
   return verdicts;
