@@ -675,11 +675,10 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
   // so from here on only this test's creases keep parts apart; bends merge
   // smallest jump first (a sliver cut off a curved part joins the side it
   // continues before the side across a crease can reach it through it).
+  // Merged bends make larger sides, whose fits and turns reach farther
+  // from the lines left: those lines are tested again (at most
+  // CreaseRounds times, until no bend merges).
   {
-    std::vector<int> group(F, -1);
-    for (std::int64_t f = 0; f < F; ++f)
-      if (assigned[f] >= 0)
-        group[f] = uf.Find(assigned[f]);
     CreaseTestSettings cs;
     cs.Near = 0.75 * par.InputRadius * meanEdge2;
     cs.Far = cs.Near + 5.0 * meanEdge2;
@@ -692,33 +691,47 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
     cs.TurnFar *= meanEdge2;
     cs.TurnSlab *= meanEdge2;
     const auto creaseStart = std::chrono::steady_clock::now();
-    const std::vector<CreaseVerdict> verdicts =
-      TestCreases(graph, centre, areaVector, input, out, group, cornerDepth, cs);
+    constexpr int CreaseRounds = 3;
+    std::vector<int> group(F, -1);
+    for (int round = 0; round < CreaseRounds; ++round)
+    {
+      for (std::int64_t f = 0; f < F; ++f)
+        group[f] = assigned[f] >= 0 ? uf.Find(assigned[f]) : -1;
+      const std::vector<CreaseVerdict> verdicts =
+        TestCreases(graph, centre, areaVector, input, out, group, cornerDepth, cs);
+      for (auto& a : apart)
+        a.clear();
+      result.NumberOfCreases = 0;
+      std::vector<std::pair<double, std::pair<int, int>>> bends;
+      for (const CreaseVerdict& c : verdicts)
+      {
+        if (c.Crease)
+        {
+          apart[c.A].push_back(c.B);
+          apart[c.B].push_back(c.A);
+          ++result.NumberOfCreases;
+        }
+        else
+        {
+          bends.push_back({ std::isnan(c.Jump) ? -1.0 : c.Jump, { c.A, c.B } });
+        }
+      }
+      std::sort(bends.begin(), bends.end());
+      int merged = 0;
+      for (const auto& b : bends)
+      {
+        const int ra = uf.Find(b.second.first), rb = uf.Find(b.second.second);
+        if (ra != rb && unite(ra, rb))
+        {
+          ++result.NumberOfBends;
+          ++merged;
+        }
+      }
+      if (merged == 0)
+        break;
+    }
     result.CreaseTestSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - creaseStart).count();
-    for (auto& a : apart)
-      a.clear();
-    std::vector<std::pair<double, std::pair<int, int>>> bends;
-    for (const CreaseVerdict& c : verdicts)
-    {
-      if (c.Crease)
-      {
-        apart[c.A].push_back(c.B);
-        apart[c.B].push_back(c.A);
-        ++result.NumberOfCreases;
-      }
-      else
-      {
-        bends.push_back({ std::isnan(c.Jump) ? -1.0 : c.Jump, { c.A, c.B } });
-      }
-    }
-    std::sort(bends.begin(), bends.end());
-    for (const auto& b : bends)
-    {
-      const int ra = uf.Find(b.second.first), rb = uf.Find(b.second.second);
-      if (ra != rb && unite(ra, rb))
-        ++result.NumberOfBends;
-    }
   }
 
   // Renumber the merged regions in order of first appearance.

@@ -7,8 +7,8 @@
 // chained as the ParaView plugin chains them.
 //
 // Where the target is met the target is asserted; where it is not
-// (noisy 64^3 tori, ellipsoids and blobs, boxes with fillets of radius 6 at
-// k = 0.3, the absolute normal targets on clean fillets of radius 4 and 6,
+// (noisy 64^3 tori, ellipsoids and blobs, the mean error of noisy boxes with
+// fillets, the absolute normal targets on clean fillets of radius 4 and 6,
 // whose own II input misses them) the bound is the worst measured figure
 // with a margin, and the comment says so (docs/quality.md has the table).
 #include "dgFeatureMetrics.h"
@@ -106,22 +106,18 @@ TEST_P(SmoothShapes, NoInventedFeaturesNeverWorseThanTheInput)
     }
     if (fillet)
     {
-      // Fillets at k = 0.3 (docs/quality.md): radius 10 at 128^3 meets the
-      // line and "worse" targets; radius 4-6, and radius 10 on the 64^3
-      // box, whose flat faces are only 4-9 voxels wide, do not (one seed of
-      // two keeps lines). Bound: the worst measured (fillet6 64^3: 34.6 per
-      // 1000, 16.1 %, mean 1.35 times the input's; before the voxel-scale
-      // turn test 41.5, 19.9 %, 1.53) with a margin.
-      b.Features = 38;
-      b.Worse = 18;
-      b.Ratio = 1.45;
+      // Fillets at k = 0.3 meet the line and "worse" targets (radius 4,
+      // below the 6 voxels under noise: 0.88-1.02 % worse at 64^3).
+      // The mean stays above 0.6 times the input's: measured 0.61-0.62
+      // (radius 10, 128^3), 0.64 (radius 6, 128^3), 0.66-0.68 (radius 10,
+      // 64^3), 0.76-0.78 (radius 6, 64^3), 0.68-0.90 (radius 4): the
+      // output field's one data weight smooths the flat faces and the tight
+      // fillets alike (docs/quality.md).
+      b.Ratio = name == "fillet4" ? 0.95 : 0.82;
+      if (name == "fillet4")
+        b.Worse = 1.5;
       if (name == "fillet10" && n == 128)
-      {
-        // Meets the line and "worse" targets; the mean ratio measured
-        // 0.61-0.62 against the target's 0.6.
-        b = Bounds();
         b.Ratio = 0.66;
-      }
     }
     EXPECT_LE(noisy.FeaturesPer1000, b.Features) << seed;
     EXPECT_LE(noisy.WorseShare, b.Worse) << seed;
