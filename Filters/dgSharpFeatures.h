@@ -44,7 +44,8 @@
 //    its sides make (CornerDepth), and the voxels turn at the line: the
 //    two sides' summed face area vectors within 2.5 edges of it meet at
 //    MinimumTurnShare or more of their angle 4.5-9.5 edges out. The
-//    others (AT's terraces on curved parts, fillets) merge.
+//    others (AT's terraces on curved parts, fillets) merge, and the lines
+//    left between the larger parts are tested again (up to 3 rounds).
 // 6. Features: the edges between faces of two different (merged) regions.
 //    The line runs where the two sides' faces meet: one staircase line.
 // 7. The output field (dgSharpFeaturesField.h): AT's u-step with v fixed to
