@@ -12,7 +12,7 @@
 //          [--min-region M] [--angle DEG] [--strong-angle DEG] [--planar-angle DEG] [--edge-angle DEG] [--beta B]
 //          [--residual R] [--fit 0|1] [--passes P] [--vote-depth D]
 //          [--threshold T] [--second-pass 0|1] [--curved 0|1] [--quadric 0|1] [--quadric-merge F] [--quadric-distance D]
-//          [--corner-depth D] [--turn-share S]
+//          [--corner-depth D] [--turn-share S] [--field-width W (0: from the noise)]
 // DG_ATCACHE=DIR keeps AT's output per case in DIR and reuses it (then only
 // the stage runs, and the II and AT lines are not printed): parameter
 // studies of the stage alone.
@@ -270,13 +270,24 @@ vtkSmartPointer<vtkPolyData> LinesBetweenLabels(vtkPolyData* surface, const std:
 } // namespace
 
 // DG_DUMP=PREFIX: the stage's surface and lines (and AT's lines) as .vtp.
-void Dump(vtkSharpFeaturesFilter* sharp, vtkAmbrosioTortorelliFilter* at)
+void Dump(vtkSharpFeaturesFilter* sharp, vtkAmbrosioTortorelliFilter* at, const dgtest::ImplicitShape& shape)
 {
   const char* dump = std::getenv("DG_DUMP");
   if (!dump)
     return;
+  vtkNew<vtkPolyData> surface;
+  surface->ShallowCopy(sharp->GetOutput(0));
+  vtkNew<vtkDoubleArray> truth;
+  truth->SetName("TrueNormals");
+  truth->SetNumberOfComponents(3);
+  for (const V3& x : dgtest::SurfelCenters(surface))
+  {
+    const V3 t = shape.Normal(x);
+    truth->InsertNextTuple3(t.x(), t.y(), t.z());
+  }
+  surface->GetCellData()->AddArray(truth);
   vtkNew<vtkXMLPolyDataWriter> w;
-  w->SetInputData(sharp->GetOutput(0));
+  w->SetInputData(surface);
   w->SetFileName((std::string(dump) + "_surface.vtp").c_str());
   w->Write();
   w->SetInputData(sharp->GetOutput(1));
@@ -301,7 +312,7 @@ int main(int argc, char* argv[])
   int depth = 5, minRegion = 30;
   double threshold = 0.5, edgeAngle = 10;
   int islands = 8, passes = 2, voteDepth = 2, fit = 1, curved = 1, quadric = 1;
-  double beta = 0.2, residual = 0.3, cornerDepth = 0.6, turnShare = 0.5;
+  double beta = 0.2, residual = 0.3, cornerDepth = 0.6, turnShare = 0.5, fieldWidth = 0;
   bool secondPass = false;
   for (int a = 1; a + 1 < argc; a += 2)
   {
@@ -372,6 +383,8 @@ int main(int argc, char* argv[])
       cornerDepth = std::stod(v);
     else if (k == "--turn-share")
       turnShare = std::stod(v);
+    else if (k == "--field-width")
+      fieldWidth = std::stod(v);
     else
     {
       std::fprintf(stderr, "unknown option %s\n", k.c_str());
@@ -401,6 +414,7 @@ int main(int argc, char* argv[])
     sharp->SetInputRadius(radius);
     sharp->SetCornerDepth(cornerDepth);
     sharp->SetMinimumTurnShare(turnShare);
+    sharp->SetFieldWidth(fieldWidth);
   };
   for (int n : sizes)
     for (const auto& name : shapes)
@@ -483,7 +497,7 @@ int main(int argc, char* argv[])
                 *shape, sharp->GetOutput(0), "SharpNormals", "IINormals", sharp->GetOutput(1));
               std::printf("%-10s %4d k %.1f s %d | sharp %s | cached\n", name.c_str(), n, k, seeds[si],
                 m.Describe().c_str());
-              Dump(sharp, nullptr);
+              Dump(sharp, nullptr, *shape);
               std::fflush(stdout);
               continue;
             }
@@ -493,7 +507,7 @@ int main(int argc, char* argv[])
               name.c_str(), n, k, seeds[si], mS.Describe().c_str(),
               static_cast<long long>(sharp->GetNumberOfBandFaces()),
               static_cast<long long>(sharp->GetNumberOfUnassignedFaces()), sharp->GetNumberOfRegions());
-            Dump(sharp, nullptr);
+            Dump(sharp, nullptr, *shape);
             if (std::getenv("DG_PROFILE"))
               std::printf("   profile by edge distance 0..7+: sharp%s\n",
                 Profile(*shape, sharp->GetOutput(0), "SharpNormals").c_str());
@@ -543,7 +557,7 @@ int main(int argc, char* argv[])
               mA.Describe().c_str());
             std::printf("%-10s %4d k %.1f s %d | sharp %s | %.1f s\n", name.c_str(), n, k, seeds[si],
               m.Describe().c_str(), s);
-            Dump(sharp, at);
+            Dump(sharp, at, *shape);
             std::fflush(stdout);
             continue;
           }
@@ -601,7 +615,7 @@ int main(int argc, char* argv[])
             name.c_str(), n, k, seeds[si], mS.Describe().c_str(),
             static_cast<long long>(sharp->GetNumberOfBandFaces()),
             static_cast<long long>(sharp->GetNumberOfUnassignedFaces()), sharp->GetNumberOfRegions(), s);
-          Dump(sharp, at);
+          Dump(sharp, at, *shape);
           if (std::getenv("DG_PROFILE"))
           {
             vtkPolyData* l = sharp->GetOutput(1);

@@ -797,37 +797,37 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       result.FeatureAngle.push_back(angle);
     }
   }
-  // 10. The output field (dgSharpFeaturesField.h): AT's u-step with v fixed
-  // to the kept creases, on the input normals, or the side normals found
-  // above within SearchDepth of a crease, where the input blends the two
-  // sides. Its data weight follows the noise the surface shows: the share
-  // of faces that face away from their input normal (a voxel face turned
-  // more than 90 degrees from the surface), 0 on a clean digital surface of
-  // any shape and 0.22-0.23 at the paper's noise k = 0.3.
-  if (inputNormals && par.FieldAlpha >= 0)
+  // 10. The output field (dgSharpFeaturesField.h): a twiced Gaussian of the
+  // input normals within each side of the kept creases, or of the side
+  // normals found above within SearchDepth of a crease, where the input
+  // blends the two sides. Its width follows the noise the surface shows:
+  // the share of faces that face away from their input normal (a voxel face
+  // turned more than 90 degrees from the surface), 0 on a clean digital
+  // surface of any shape and 0.22-0.23 at the paper's noise k = 0.3.
+  if (inputNormals && par.FieldWidth >= 0)
   {
-    double alpha = par.FieldAlpha;
-    if (alpha == 0)
+    double width = par.FieldWidth;
+    if (width == 0)
     {
       std::int64_t away = 0;
       for (std::int64_t f = 0; f < F; ++f)
         away += polyNormal[f].Dot(input[f]) < 0;
       result.NoiseShare = static_cast<double>(away) / static_cast<double>(F);
-      alpha = std::pow(0.05, std::min(1.5, result.NoiseShare / 0.22));
+      width = 1.0 + 1.5 * std::min(1.5, result.NoiseShare / 0.22);
     }
-    result.FieldAlpha = alpha;
+    result.FieldWidth = width;
     std::vector<int> steps(F, -1);
     std::vector<std::int64_t> queue;
+    std::vector<char> crease(E, 0);
     for (std::int64_t e = 0; e < E; ++e)
     {
-      bool feature = false;
       for (std::int64_t a = graph.EdgeFacePtr[e]; a < graph.EdgeFacePtr[e + 1]; ++a)
         for (std::int64_t b = a + 1; b < graph.EdgeFacePtr[e + 1]; ++b)
         {
           const int ra = result.Region[graph.EdgeFaces[a]], rb = result.Region[graph.EdgeFaces[b]];
-          feature |= ra >= 0 && rb >= 0 && ra != rb;
+          crease[e] |= ra >= 0 && rb >= 0 && ra != rb;
         }
-      if (feature)
+      if (crease[e])
         for (std::int64_t a = graph.EdgeFacePtr[e]; a < graph.EdgeFacePtr[e + 1]; ++a)
           if (steps[graph.EdgeFaces[a]] < 0)
           {
@@ -854,7 +854,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
         }
       }
     }
-    std::vector<double> data(3 * F), solved;
+    std::vector<Vec3> data(F);
     for (std::int64_t f = 0; f < F; ++f)
     {
       // A side normal is data only where it is a side's: near a crease the
@@ -863,20 +863,13 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       // from the input came from a region beyond a band wider than the
       // search (measured on organic volumes, whose bands cover more than
       // half the surface).
-      const Vec3 d = steps[f] >= 0 && AngleDegrees(out[f], input[f]) <= 60 ? out[f] : input[f];
-      data[3 * f] = d.x;
-      data[3 * f + 1] = d.y;
-      data[3 * f + 2] = d.z;
+      data[f] = steps[f] >= 0 && AngleDegrees(out[f], input[f]) <= 60 ? out[f] : input[f];
     }
-    std::string fieldError;
     const auto fieldStart = std::chrono::steady_clock::now();
-    if (!SolveFieldWithCreases(numberOfPoints, offsets, connectivity, result.FeatureEdges, data,
-          alpha, solved, &fieldError))
-      return fail(fieldError);
+    if (!SmoothFieldWithinSides(graph, crease, centre, data, width * meanEdge2, out))
+      return fail("the output field needs a positive width and fewer than 2^31 faces");
     result.FieldSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - fieldStart).count();
-    for (std::int64_t f = 0; f < F; ++f)
-      out[f] = Vec3(solved[3 * f], solved[3 * f + 1], solved[3 * f + 2]);
   }
   result.Normals.resize(3 * F);
   for (std::int64_t f = 0; f < F; ++f)

@@ -48,10 +48,10 @@
 //    left between the larger parts are tested again (up to 3 rounds).
 // 6. Features: the edges between faces of two different (merged) regions.
 //    The line runs where the two sides' faces meet: one staircase line.
-// 7. The output field (dgSharpFeaturesField.h): AT's u-step with v fixed to
-//    the kept lines, on the input normals (the side normals near a line),
-//    twiced, with a data weight that follows the noise the surface shows
-//    (FieldAlpha).
+// 7. The output field (dgSharpFeaturesField.h): a twiced Gaussian mean of
+//    the input normals (the side normals near a line) over the faces on the
+//    same side of every kept line, as wide as the noise the surface shows
+//    calls for (FieldWidth).
 //
 // Plain C++ on a polygon mesh in offsets/connectivity form (vtkCellArray's
 // layout), testable without a pipeline.
@@ -94,8 +94,8 @@ struct SharpFeatureParameters
                              // corner of its two sides is a bend (a fillet), not a crease
   double MinimumTurnShare = 0.5; // a line whose sides meet within 2.5 edges of it at less than
                                  // this share of their angle 4.5-9.5 edges out is a bend
-  double FieldAlpha = 0.0;   // data weight of the output field; 0: from the noise the surface
-                             // shows; < 0: no field (the side and region normals as they are)
+  double FieldWidth = 0.0;   // edge lengths: the output field's Gaussian; 0: from the noise the
+                             // surface shows; < 0: no field (the side and region normals as they are)
 };
 
 struct SharpFeatureResult
@@ -116,7 +116,7 @@ struct SharpFeatureResult
   int NumberOfCreases = 0;                  // lines kept by the crease test
   int NumberOfBends = 0;                    // lines merged by it
   double NoiseShare = 0;                    // faces turned away from their input normal
-  double FieldAlpha = 0;                    // the output field's data weight (0: no field)
+  double FieldWidth = 0;                    // the output field's width, edge lengths (0: no field)
   double CreaseTestSeconds = 0;             // wall time of step 5, the crease test
   double FieldSeconds = 0;                  // wall time of step 7, the output field
 };

@@ -1,76 +1,225 @@
 #include "dgSharpFeaturesField.h"
 
-#include "dgATOperators.h"
-#include "dgATSolver.h"
+#include <vtkSMPThreadLocal.h>
+#include <vtkSMPTools.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numeric>
+#include <tuple>
 
 namespace dg
 {
-
-bool SolveFieldWithCreases(std::int64_t numberOfPoints, const std::vector<std::int64_t>& offsets,
-  const std::vector<std::int64_t>& connectivity,
-  const std::vector<std::array<std::int64_t, 2>>& creases, const std::vector<double>& data,
-  double alpha, std::vector<double>& normals, std::string* error)
+namespace sharp
 {
-  const std::int64_t F = static_cast<std::int64_t>(offsets.size()) - 1;
-  if (F < 1 || static_cast<std::int64_t>(data.size()) != 3 * F)
-  {
-    if (error)
-      *error = "the field's data does not match the faces";
-    return false;
-  }
-  ATComplex complex;
-  if (!complex.Build(numberOfPoints, offsets, connectivity, error))
-    return false;
-  ATParameters p;
-  p.Alpha = alpha;
-  ATSolver solver(complex, p, ATSolver::TakePatterns);
-  Eigen::MatrixXd g(F, 3);
+namespace
+{
+
+// Faces grouped in cubes of a few widths: one search per cube (and per
+// part of it that creases separate) finds every face any of its faces can
+// reach, instead of one search per face (fandisk 256^3 at k = 0.3, width
+// 2.5: 10.3-11.2 s with a search per face, docs/sharp-features.md has the
+// figure with the cubes).
+struct Tiles
+{
+  std::vector<std::int64_t> Ptr;   // faces of tile t: Faces[Ptr[t] .. Ptr[t + 1])
+  std::vector<std::int64_t> Faces;
+};
+
+Tiles MakeTiles(const std::vector<Vec3>& centre, double size)
+{
+  const std::int64_t F = static_cast<std::int64_t>(centre.size());
+  std::vector<std::tuple<std::int64_t, std::int64_t, std::int64_t>> key(F);
   for (std::int64_t f = 0; f < F; ++f)
-    for (int c = 0; c < 3; ++c)
-      g(f, c) = data[3 * f + c];
-  solver.Initialize(std::move(g));
-  // v = 0 on the creases' vertices: their edges carry no smoothness term,
-  // the edges leaving the line a quarter of it (AT's own M v average).
-  Eigen::VectorXd& v = solver.V();
-  v.setOnes();
-  for (const auto& e : creases)
-    for (std::int64_t p : e)
-      if (p >= 0 && p < v.size())
-        v[p] = 0.0;
-  const Eigen::VectorXd cut = v;
-  if (!solver.StepU())
+    key[f] = { static_cast<std::int64_t>(std::floor(centre[f].x / size)),
+      static_cast<std::int64_t>(std::floor(centre[f].y / size)),
+      static_cast<std::int64_t>(std::floor(centre[f].z / size)) };
+  Tiles t;
+  t.Faces.resize(F);
+  std::iota(t.Faces.begin(), t.Faces.end(), 0);
+  std::stable_sort(t.Faces.begin(), t.Faces.end(),
+    [&](std::int64_t a, std::int64_t b) { return key[a] < key[b]; });
+  for (std::int64_t i = 0; i < F; ++i)
+    if (i == 0 || key[t.Faces[i]] != key[t.Faces[i - 1]])
+      t.Ptr.push_back(i);
+  t.Ptr.push_back(F);
+  return t;
+}
+
+struct Search
+{
+  std::vector<std::int64_t> Stamp; // the search that last reached a face
+  std::vector<std::int64_t> Queue;
+  std::vector<double> Weight;
+  std::vector<char> Done; // per face of the tile: its part is done
+  std::vector<Vec3> Centre, Data, In;
+};
+
+// exp(-x / 2) for x = d^2 / width^2 in [0, 6.25] (the cut at 2.5 widths),
+// 0 beyond, from a table: the field's weights are most of its cost.
+class Gaussian
+{
+public:
+  explicit Gaussian(double width)
+    : Scale(Bins / (6.25 * width * width))
   {
-    if (error)
-      *error = solver.Error().empty() ? "the field's linear solve failed" : solver.Error();
-    return false;
+    for (int i = 0; i <= Bins + 1; ++i)
+      this->Table[i] = std::exp(-0.5 * 6.25 * i / Bins);
   }
-  // Twicing: u += S (d - u), S the same smoothing. A screened smoothing of
-  // the normals bends them towards their neighbours' on a curved part by
-  // O(1/alpha) times the field's second derivatives; smoothing the residual
-  // and adding it back leaves O(1/alpha^2) of that bias (a 96^3 fillet of
-  // radius 6 at alpha 0.05: 10.4 -> 6.5 degrees mean error, noisy spheres
-  // unchanged), for one more solve.
-  const Eigen::MatrixXd first = solver.U();
-  Eigen::MatrixXd residual(F, 3);
-  for (std::int64_t f = 0; f < F; ++f)
-    for (int c = 0; c < 3; ++c)
-      residual(f, c) = data[3 * f + c] - first(f, c);
-  solver.Initialize(std::move(residual));
-  solver.V() = cut;
-  if (!solver.StepU())
+  double operator()(double d2) const
   {
-    if (error)
-      *error = solver.Error().empty() ? "the field's linear solve failed" : solver.Error();
-    return false;
+    const double x = d2 * this->Scale;
+    if (x >= Bins)
+      return 0.0;
+    const int i = static_cast<int>(x);
+    return this->Table[i] + (x - i) * (this->Table[i + 1] - this->Table[i]);
   }
-  solver.U() += first;
-  solver.NormalizeU();
-  const Eigen::MatrixXd& u = solver.U();
-  normals.resize(3 * F);
+
+private:
+  static constexpr int Bins = 1024;
+  double Scale;
+  double Table[Bins + 2];
+};
+
+// out[f] = the Gaussian-weighted mean of in over the faces f's side reaches
+// (dgSharpFeaturesField.h).
+void Convolve(const std::vector<std::int64_t>& ptr, const std::vector<std::int64_t>& next,
+  const Tiles& tiles, const std::vector<Vec3>& centre, const std::vector<Vec3>& data,
+  double width, const std::vector<Vec3>& in, std::vector<Vec3>& out)
+{
+  const std::int64_t F = static_cast<std::int64_t>(centre.size());
+  const std::int64_t T = static_cast<std::int64_t>(tiles.Ptr.size()) - 1;
+  const double reach = 2.5 * width, reach2 = reach * reach;
+  const Gaussian gauss(width);
+  vtkSMPThreadLocal<Search> local;
+  vtkSMPTools::For(0, T, 1, [&](std::int64_t t0, std::int64_t t1) {
+    Search& s = local.Local();
+    if (s.Stamp.empty())
+      s.Stamp.assign(F, -1);
+    for (std::int64_t t = t0; t < t1; ++t)
+    {
+      // The tile's box grown by the reach bounds what its faces can reach.
+      Vec3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
+      for (std::int64_t i = tiles.Ptr[t]; i < tiles.Ptr[t + 1]; ++i)
+      {
+        const Vec3& c = centre[tiles.Faces[i]];
+        lo = Vec3(std::min(lo.x, c.x), std::min(lo.y, c.y), std::min(lo.z, c.z));
+        hi = Vec3(std::max(hi.x, c.x), std::max(hi.y, c.y), std::max(hi.z, c.z));
+      }
+      auto near = [&](const Vec3& c) {
+        const double dx = std::max({ 0.0, lo.x - c.x, c.x - hi.x });
+        const double dy = std::max({ 0.0, lo.y - c.y, c.y - hi.y });
+        const double dz = std::max({ 0.0, lo.z - c.z, c.z - hi.z });
+        return dx * dx + dy * dy + dz * dz <= reach2;
+      };
+      const std::int64_t first = tiles.Ptr[t];
+      s.Done.assign(tiles.Ptr[t + 1] - first, 0);
+      for (std::int64_t i = first; i < tiles.Ptr[t + 1]; ++i)
+      {
+        const std::int64_t seed = tiles.Faces[i];
+        if (s.Done[i - first])
+          continue;
+        // One part of the tile: the faces reached from seed without crossing
+        // a crease (a stamp per tile and part: t F + seed).
+        const std::int64_t stamp = F * t + seed;
+        s.Queue.assign(1, seed);
+        s.Stamp[seed] = stamp;
+        for (std::size_t h = 0; h < s.Queue.size(); ++h)
+          for (std::int64_t k = ptr[s.Queue[h]]; k < ptr[s.Queue[h] + 1]; ++k)
+          {
+            const std::int64_t n = next[k];
+            if (s.Stamp[n] != stamp)
+            {
+              s.Stamp[n] = stamp;
+              if (near(centre[n]))
+                s.Queue.push_back(n);
+            }
+          }
+        // The part's faces in contiguous arrays: every face of the part reads
+        // them all.
+        const std::size_t q = s.Queue.size();
+        s.Centre.resize(q);
+        s.Data.resize(q);
+        s.In.resize(q);
+        for (std::size_t h = 0; h < q; ++h)
+        {
+          s.Centre[h] = centre[s.Queue[h]];
+          s.Data[h] = data[s.Queue[h]];
+          s.In[h] = in[s.Queue[h]];
+        }
+        s.Weight.resize(q);
+        for (std::int64_t j = i; j < tiles.Ptr[t + 1]; ++j)
+        {
+          const std::int64_t f = tiles.Faces[j];
+          if (s.Stamp[f] != stamp)
+            continue; // another part of the tile
+          s.Done[j - first] = 1;
+          Vec3 all;
+          for (std::size_t h = 0; h < q; ++h)
+          {
+            const Vec3 d = s.Centre[h] - centre[f];
+            s.Weight[h] = gauss(d.Dot(d));
+            all += s.Data[h] * s.Weight[h];
+          }
+          // The faces on f's side of a thin part: those whose data lie
+          // within 90 degrees of f's, unless f's own datum is the odd one
+          // out (a noise pit's faces, whose input points across the
+          // surface), where the mean of all reached faces says where f faces.
+          const Vec3 reference = data[f].Dot(all) >= 0 ? data[f] : all;
+          Vec3 sum;
+          double weights = 0;
+          for (std::size_t h = 0; h < q; ++h)
+          {
+            const double w = s.Data[h].Dot(reference) >= 0 ? s.Weight[h] : 0.0;
+            sum += s.In[h] * w;
+            weights += w;
+          }
+          out[f] = weights > 0 ? sum * (1.0 / weights) : in[f];
+        }
+      }
+    }
+  });
+}
+
+} // namespace
+
+bool SmoothFieldWithinSides(const FaceGraph& graph, const std::vector<char>& crease,
+  const std::vector<Vec3>& centre, const std::vector<Vec3>& data, double width,
+  std::vector<Vec3>& normals)
+{
+  const std::int64_t F = static_cast<std::int64_t>(centre.size());
+  if (!(width > 0))
+    return false;
+  // The faces next to each face across an edge that is not a crease.
+  std::vector<std::int64_t> ptr(F + 1, 0), next;
+  next.reserve(4 * F);
   for (std::int64_t f = 0; f < F; ++f)
-    for (int c = 0; c < 3; ++c)
-      normals[3 * f + c] = u(f, c);
+  {
+    for (std::int64_t j = graph.FaceEdgePtr[f]; j < graph.FaceEdgePtr[f + 1]; ++j)
+    {
+      const std::int64_t e = graph.FaceEdges[j];
+      if (!crease[e])
+        for (std::int64_t i = graph.EdgeFacePtr[e]; i < graph.EdgeFacePtr[e + 1]; ++i)
+          if (graph.EdgeFaces[i] != f)
+            next.push_back(graph.EdgeFaces[i]);
+    }
+    ptr[f + 1] = static_cast<std::int64_t>(next.size());
+  }
+  const Tiles tiles = MakeTiles(centre, 1.0 * width);
+  std::vector<Vec3> first(F), residual(F), second(F);
+  Convolve(ptr, next, tiles, centre, data, width, data, first);
+  for (std::int64_t f = 0; f < F; ++f)
+    residual[f] = data[f] - first[f];
+  Convolve(ptr, next, tiles, centre, data, width, residual, second);
+  normals.resize(F);
+  for (std::int64_t f = 0; f < F; ++f)
+  {
+    const Vec3 u = first[f] + second[f];
+    normals[f] = u.Norm() > 0 ? u.Unit() : data[f];
+  }
   return true;
 }
 
+} // namespace sharp
 } // namespace dg

@@ -1,34 +1,42 @@
-// The sharp-features stage's output normals: Ambrosio-Tortorelli's u-step
-// with the discontinuity set fixed to the creases the stage kept
-// (docs/sharp-features.md, step 10).
+// The sharp-features stage's output normals (docs/sharp-features.md, step
+// 10): once the stage has decided which lines are creases, each face gets a
+// weighted mean of the data normals of the faces around it on its own side
+// of every crease.
 //
-// AT's own u is terraced on curved parts where its v dropped along false
-// lines; once the stage has decided which lines are creases, the field that
-// AT's energy prefers for that discontinuity set is one linear solve:
-//   (alpha I + B^T diag(M v)^2 B) u = alpha d,
-// with v = 0 on the creases' vertices and 1 elsewhere, and d the data: the
-// input estimator's normals, except near a crease, where they are blended
-// across it and the stage's side normals are used instead.
+// The weights are a Gaussian of the Euclidean distance between face centres
+// (standard deviation `width`, cut at 2.5 widths), over the faces reached
+// from the face through face edges that are not creases: a crease's two
+// sides never mix, and a line that ends lets the field round its end, as
+// the surface does. A Gaussian in space, not a smoothing along the face
+// graph, because the graph of a voxel surface is a staircase: its steps
+// make graph distances anisotropic, and a graph smoothing leaves a
+// direction-dependent error that a ball does not (docs/sharp-features.md).
+// The smoothing is twiced, u = K d + K (d - K d), which cancels the
+// leading bias of K on a curved field; faces whose data point more than
+// 90 degrees from the face's own (the other side of a thin part) are not
+// weighted.
 #ifndef dgSharpFeaturesField_h
 #define dgSharpFeaturesField_h
 
-#include <array>
-#include <cstdint>
-#include <string>
+#include "dgSharpFeaturesGraph.h"
+
 #include <vector>
 
 namespace dg
 {
+namespace sharp
+{
 
-/// offsets/connectivity: the polygons (vtkCellArray's layout); creases:
-/// point id pairs (the kept feature edges); data: 3 per face; alpha: AT's
-/// data weight (grid units). normals gets 3 unit values per face. False
-/// with a message when the complex cannot be built or the solve fails.
-bool SolveFieldWithCreases(std::int64_t numberOfPoints, const std::vector<std::int64_t>& offsets,
-  const std::vector<std::int64_t>& connectivity,
-  const std::vector<std::array<std::int64_t, 2>>& creases, const std::vector<double>& data,
-  double alpha, std::vector<double>& normals, std::string* error = nullptr);
+/// graph: the faces' edges; crease: per graph edge, nonzero where the field
+/// must not pass; centre and data: per face (data unit or zero); width in
+/// the centres' units. normals gets one unit vector per face (the data where
+/// the mean is zero). False when width is not positive or there are 2^31
+/// faces or more.
+bool SmoothFieldWithinSides(const FaceGraph& graph, const std::vector<char>& crease,
+  const std::vector<Vec3>& centre, const std::vector<Vec3>& data, double width,
+  std::vector<Vec3>& normals);
 
+} // namespace sharp
 } // namespace dg
 
 #endif

@@ -108,7 +108,7 @@ int vtkSharpFeaturesFilter::Execute(vtkPolyData* input, vtkPolyData* output, vtk
   par.InputRadius = this->InputRadius;
   par.CornerDepth = this->CornerDepth;
   par.MinimumTurnShare = this->MinimumTurnShare;
-  par.FieldAlpha = this->FieldAlpha;
+  par.FieldWidth = this->FieldWidth;
   std::string problem;
   if (!(par.FeatureThreshold > 0 && par.FeatureThreshold < 1))
     problem += " FeatureThreshold must be in (0, 1).";
@@ -142,8 +142,8 @@ int vtkSharpFeaturesFilter::Execute(vtkPolyData* input, vtkPolyData* output, vtk
     problem += " CornerDepth must be > 0.";
   if (!(par.MinimumTurnShare >= 0 && par.MinimumTurnShare <= 1))
     problem += " MinimumTurnShare must be in [0, 1].";
-  if (!std::isfinite(par.FieldAlpha))
-    problem += " FieldAlpha must be finite.";
+  if (!(par.FieldWidth <= 20))
+    problem += " FieldWidth must be at most 20 edge lengths (negative: no field).";
   if (!problem.empty())
   {
     vtkErrorMacro("Invalid parameters:" << problem);
@@ -311,7 +311,7 @@ int vtkSharpFeaturesFilter::Execute(vtkPolyData* input, vtkPolyData* output, vtk
   this->NumberOfCreases = res.NumberOfCreases;
   this->NumberOfBends = res.NumberOfBends;
   this->NoiseShare = res.NoiseShare;
-  this->UsedFieldAlpha = res.FieldAlpha;
+  this->UsedFieldWidth = res.FieldWidth;
   this->CreaseTestTime = res.CreaseTestSeconds;
   this->FieldTime = res.FieldSeconds;
 
@@ -377,7 +377,7 @@ void vtkSharpFeaturesFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "InputRadius: " << this->InputRadius << "\n";
   os << indent << "CornerDepth: " << this->CornerDepth << "\n";
   os << indent << "MinimumTurnShare: " << this->MinimumTurnShare << "\n";
-  os << indent << "FieldAlpha: " << this->FieldAlpha << "\n";
+  os << indent << "FieldWidth: " << this->FieldWidth << "\n";
   os << indent << "NumberOfCreases: " << this->NumberOfCreases << "\n";
   os << indent << "NumberOfBends: " << this->NumberOfBends << "\n";
   os << indent << "NoiseShare: " << this->NoiseShare << "\n";
@@ -385,7 +385,7 @@ void vtkSharpFeaturesFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FieldTime: " << this->FieldTime << "\n";
   os << indent << "ExchangedBytes: " << this->ExchangedBytes << "\n";
   os << indent << "ExchangedMessages: " << this->ExchangedMessages << "\n";
-  os << indent << "UsedFieldAlpha: " << this->UsedFieldAlpha << "\n";
+  os << indent << "UsedFieldWidth: " << this->UsedFieldWidth << "\n";
   os << indent << "NumberOfBandFaces: " << this->NumberOfBandFaces << "\n";
   os << indent << "NumberOfUnassignedFaces: " << this->NumberOfUnassignedFaces << "\n";
   os << indent << "NumberOfRegions: " << this->NumberOfRegions << "\n";

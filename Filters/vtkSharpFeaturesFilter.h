@@ -35,10 +35,10 @@
  *   sides make (within CornerDepth), and the voxel faces must turn at the
  *   line rather than across the width of a fillet (MinimumTurnShare);
  * - the feature lines are the edges between faces of different regions;
- * - the output normals are Ambrosio-Tortorelli's u-step with v fixed to
- *   the kept lines: the input normals smoothed up to the lines, the side
- *   normals within SearchDepth of them as data, with a data weight that
- *   follows the noise the surface shows (FieldAlpha).
+ * - the output normals are a twiced Gaussian mean of the input normals
+ *   (the side normals within SearchDepth of a line) over the faces on the
+ *   same side of every kept line, as wide as the noise the surface shows
+ *   calls for (FieldWidth).
  *
  * Input: a vtkPolyData with polygons, a cell normal field (array 0 of
  * SetInputArrayToProcess, default "ATNormals") and a point feature indicator
@@ -352,24 +352,25 @@ public:
 
   ///@{
   /**
-   * The output field's data weight (AT's alpha for its u-step with v fixed
-   * to the kept lines). Default 0: from the noise the surface shows, the
-   * share s of faces turned more than 90 degrees from their input normal
-   * (0 clean, 0.22 at the paper's k = 0.3): alpha = 0.05^min(1.5, s / 0.22),
-   * 1 on a clean surface (the input normals nearly as they are) down to
-   * 0.05 at k = 0.3. > 0: that weight. < 0: no field (the side and region
-   * normals, as before the field existed).
+   * The output field's width: the standard deviation, in edge lengths, of
+   * the Gaussian that averages the input normals within each side of the
+   * kept lines (twiced, cut at 2.5 widths). Default 0: from the noise the
+   * surface shows, the share s of faces turned more than 90 degrees from
+   * their input normal (0 clean, 0.22 at the paper's k = 0.3): width =
+   * 1 + 1.5 min(1.5, s / 0.22), 1 on a clean surface, 2.5 at k = 0.3. > 0: that
+   * width (at most 20). < 0: no field (the side and region normals as they
+   * are).
    */
-  vtkSetMacro(FieldAlpha, double);
-  vtkGetMacro(FieldAlpha, double);
+  vtkSetMacro(FieldWidth, double);
+  vtkGetMacro(FieldWidth, double);
   ///@}
 
-  /// Lines the crease test kept and merged, the noise share and the data
-  /// weight the last execution used (0: no field).
+  /// Lines the crease test kept and merged, the noise share and the field
+  /// width (edge lengths) the last execution used (0: no field).
   vtkGetMacro(NumberOfCreases, int);
   vtkGetMacro(NumberOfBends, int);
   vtkGetMacro(NoiseShare, double);
-  vtkGetMacro(UsedFieldAlpha, double);
+  vtkGetMacro(UsedFieldWidth, double);
 
   /// Wall time (seconds) of the last execution's crease test and output
   /// field solve, the two parts issue 39 added (benchmarks report their cost).
@@ -435,7 +436,7 @@ protected:
   double InputRadius = 4.0;
   double CornerDepth = 0.6;
   double MinimumTurnShare = 0.5;
-  double FieldAlpha = 0.0;
+  double FieldWidth = 0.0;
   int NumberOfCreases = 0;
   double CreaseTestTime = 0;
   double FieldTime = 0;
@@ -443,7 +444,7 @@ protected:
   vtkIdType ExchangedMessages = 0;
   int NumberOfBends = 0;
   double NoiseShare = 0.0;
-  double UsedFieldAlpha = 0.0;
+  double UsedFieldWidth = 0.0;
   vtkIdType NumberOfBandFaces = 0;
   vtkIdType NumberOfUnassignedFaces = 0;
   int NumberOfRegions = 0;

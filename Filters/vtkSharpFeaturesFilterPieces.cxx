@@ -364,7 +364,7 @@ int vtkSharpFeaturesFilter::RequestDataPieces(vtkMultiProcessController* control
         static_cast<double>(this->NumberOfPlanarRegions),
         static_cast<double>(this->NumberOfQuadricRegions),
         static_cast<double>(this->NumberOfQuadricMerges), static_cast<double>(this->NumberOfCreases),
-        static_cast<double>(this->NumberOfBends), this->NoiseShare, this->UsedFieldAlpha,
+        static_cast<double>(this->NumberOfBends), this->NoiseShare, this->UsedFieldWidth,
         this->CreaseTestTime, this->FieldTime };
       std::copy(s, s + 12, stats);
     }
@@ -384,7 +384,7 @@ int vtkSharpFeaturesFilter::RequestDataPieces(vtkMultiProcessController* control
   this->NumberOfCreases = static_cast<int>(stats[6]);
   this->NumberOfBends = static_cast<int>(stats[7]);
   this->NoiseShare = stats[8];
-  this->UsedFieldAlpha = stats[9];
+  this->UsedFieldWidth = stats[9];
   this->CreaseTestTime = stats[10];
   this->FieldTime = stats[11];
 

@@ -7,9 +7,9 @@
 // chained as the ParaView plugin chains them.
 //
 // Where the target is met the target is asserted; where it is not
-// (noisy 64^3 tori, ellipsoids and blobs, the mean error of noisy boxes with
-// fillets, the absolute normal targets on clean fillets of radius 4 and 6,
-// whose own II input misses them) the bound is the worst measured figure
+// (one noisy 64^3 torus, the mean error of noisy 64^3 boxes with fillets of
+// radius 4 and 6, the absolute normal targets on clean fillets of radius 4
+// and 6 at 64^3, whose own II input misses them) the bound is the worst measured figure
 // with a margin, and the comment says so (docs/quality.md has the table).
 #include "dgFeatureMetrics.h"
 #include "dgGroundTruth.h"
@@ -74,12 +74,12 @@ TEST_P(SmoothShapes, NoInventedFeaturesNeverWorseThanTheInput)
   const dgtest::SmoothMetrics clean = RunProgramDefaults(*shape, n, 0.0, 1);
   std::printf("%s %d k 0   %s\n", name.c_str(), n, clean.Describe().c_str());
   Bounds c;
-  // Clean fillets of radius 4 and 6: II (r = 4) itself is 2.3-3.3 degrees
-  // off on average and 5.5-8.8 at its 95th percentile there, and the
-  // output follows it (measured 2.0-3.0 and 5.1-8.9); the target cannot be
-  // reached from that input (docs/quality.md). The bound: the input's own
-  // figures plus half a degree.
-  if (name == "fillet4" || name == "fillet6")
+  // Clean fillets of radius 4 (and 6 at 64^3): II (r = 4) itself is
+  // 2.5-3.3 degrees off on average and 6.4-8.8 at its 95th percentile there,
+  // and the output keeps most of that (measured 1.96-2.90 and 5.99-8.68);
+  // the p95 target cannot be reached from that input (docs/quality.md). The
+  // bound: the input's own figures plus half a degree.
+  if (name == "fillet4" || (name == "fillet6" && n == 64))
   {
     c.Mean = clean.InputMean + 0.5;
     c.P95 = clean.InputP95 + 0.5;
@@ -96,28 +96,28 @@ TEST_P(SmoothShapes, NoInventedFeaturesNeverWorseThanTheInput)
     Bounds b;
     if (n == 64 && !fillet)
     {
-      // 64^3 tori (minor radius 10), ellipsoids and blobs (smallest radius
-      // of curvature 7 voxels) at k = 0.3: measured up to 6.8 per 1000, 1.9 %,
-      // ratio 0.67 (blobs: 0 per 1000, 0.03 %, 0.66-0.67); the 2,
-      // 0.5 % and 0.6 hold at 128^3 (blobs: 1.8 per 1000, 0.09 %, 0.52).
+      // 64^3 tori (minor radius 10) at k = 0.3: one seed keeps a line on
+      // the inner side (6.3 per 1000, 0.93 % worse); every other smooth
+      // shape meets the targets (docs/quality.md).
       b.Features = 8;
-      b.Worse = 2.5;
-      b.Ratio = 0.72;
+      b.Worse = 1.5;
     }
     if (fillet)
     {
       // Fillets at k = 0.3 meet the line and "worse" targets (radius 4,
-      // below the 6 voxels under noise: 0.88-1.02 % worse at 64^3).
-      // The mean stays above 0.6 times the input's: measured 0.61-0.62
-      // (radius 10, 128^3), 0.64 (radius 6, 128^3), 0.66-0.68 (radius 10,
-      // 64^3), 0.76-0.78 (radius 6, 64^3), 0.68-0.90 (radius 4): the
-      // output field's one data weight smooths the flat faces and the tight
-      // fillets alike (docs/quality.md).
-      b.Ratio = name == "fillet4" ? 0.95 : 0.82;
+      // below the 6 voxels under noise: 0.42-0.52 % worse at 64^3).
+      // The mean is below 0.6 times the input's except on the tightest
+      // ones at 64^3: radius 6 0.64-0.65 (a Gaussian of the input normals of
+      // any width does no better than 0.64 there: the input's own error on
+      // the fillets is mostly its bias; widths 1.5-4 measured) and radius 4 0.79 (0.63-0.65 at
+      // 128^3).
       if (name == "fillet4")
-        b.Worse = 1.5;
-      if (name == "fillet10" && n == 128)
-        b.Ratio = 0.66;
+      {
+        b.Ratio = 0.85;
+        b.Worse = 1.0;
+      }
+      if (name == "fillet6" && n == 64)
+        b.Ratio = 0.7;
     }
     EXPECT_LE(noisy.FeaturesPer1000, b.Features) << seed;
     EXPECT_LE(noisy.WorseShare, b.Worse) << seed;
