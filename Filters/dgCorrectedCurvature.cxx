@@ -6,6 +6,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <unordered_map>
 
@@ -35,14 +36,19 @@ void AddTriangle(const V3& a, const V3& b, const V3& c, const V3& ua, const V3& 
       m.MuXY[3 * i + j] += 0.5 * (w1[i] * d1[j] - w2[i] * d2[j]);
 }
 
-// Cell key of a uniform grid of cell size h (21 bits per axis).
-std::int64_t Key(const V3& c, double h, int dx = 0, int dy = 0, int dz = 0)
+// Cell key of a uniform grid from a cell's integer coordinates (21 bits
+// per axis).
+std::int64_t Pack(std::int64_t x, std::int64_t y, std::int64_t z)
 {
-  const auto k = [&](double v, int d) {
-    return (static_cast<std::int64_t>(std::floor(v / h)) + d + (1 << 20)) & ((1 << 21) - 1);
-  };
-  return (k(c.x(), dx) << 42) | (k(c.y(), dy) << 21) | k(c.z(), dz);
+  const auto k = [](std::int64_t v) { return (v + (1 << 20)) & ((1 << 21) - 1); };
+  return (k(x) << 42) | (k(y) << 21) | k(z);
 }
+
+enum Quantity
+{
+  CX, CY, CZ, M0, M1, M2, SXX, SYY, SZZ, SXY, SXZ, SYZ, NX, NY, NZ, QUANTITIES
+};
+constexpr int SUMS = QUANTITIES - M0; // the quantities summed over a ball
 } // namespace
 
 CorrectedMeasures PolygonMeasures(int corners, const double* x, const double* u)
@@ -69,6 +75,23 @@ CorrectedMeasures PolygonMeasures(int corners, const double* x, const double* u)
     AddTriangle(b, At(x, i), At(x, j), ub, At(u, i), At(u, j), m);
   }
   return m;
+}
+
+double CurvatureReach(const CurvatureParameters& parameters, double edgeLength)
+{
+  // A ball and its ramp, and the ring of faces around a ball face's corners
+  // (its corner normals). With the per-face radius, in cells of side s =
+  // (R + l/2) / 2: a face blends the representatives within 1.5 s of it,
+  // whose radius comes from the representatives of the 3 x 3 x 3 cells
+  // around theirs (within 2 sqrt(3) s), whose balls of up to 3 R (their
+  // cells' sums counted with a ramp of s / 2 each side) take the sums of
+  // whole cells (faces within sqrt(3) s of their cell's mean centre): 3 R
+  // + (1.5 + 2 sqrt(3) + 0.5 + sqrt(3)) s < 3 R + 8 s.
+  const double s = 0.5 * (parameters.Radius + 0.5 * edgeLength);
+  const double ball = parameters.AdaptiveRadius
+    ? kMaxRadiusFactor * parameters.Radius + 8 * s
+    : parameters.Radius;
+  return ball + 3 * edgeLength;
 }
 
 bool ComputeCorrectedCurvatures(std::int64_t numberOfPoints, const double* points,
@@ -364,39 +387,67 @@ bool ComputeCorrectedCurvatures(std::int64_t numberOfPoints, const double* point
   // [0, 1], l the mean edge length (exact for a square face of side l moving
   // across a plane, and the sphere is locally a plane for R >> l).
   const double l = par.EdgeLength > 0 ? par.EdgeLength : (edgeCount ? edgeSum / edgeCount : 1.0);
-  const double R = par.Radius, reach = R + 0.5 * l, reach2 = reach * reach;
+  const double R = par.Radius, reach = R + 0.5 * l;
+  const bool adaptive = par.AdaptiveRadius;
 
   // The faces sorted into cubic cells of side reach / 2 and copied in that
   // order, one array per quantity: every ball around a face of a cell lies
   // within the 5 x 5 x 5 cells around it, whose faces are a few contiguous
   // runs that all faces of the cell read (on octa-flower 512^3 this is
-  // what made the stage 3 times faster than a hash lookup per face).
+  // what made the stage 3 times faster than a hash lookup per face). The
+  // cells are ordered by blocks of 3 x 3 x 3 (the per-face radius's
+  // representative balls, up to 3 R, read the 5 x 5 x 5 blocks around
+  // theirs in the same way).
   const double side = 0.5 * reach;
-  std::vector<std::pair<std::int64_t, std::int64_t>> order(F);
-  for (std::int64_t f = 0; f < F; ++f)
-    order[f] = { Key(centre[f], side), f };
-  std::sort(order.begin(), order.end());
-  std::vector<std::int64_t> cellStart;
-  std::unordered_map<std::int64_t, std::int64_t> cellOf;
-  for (std::int64_t i = 0; i < F; ++i)
-    if (i == 0 || order[i].first != order[i - 1].first)
+  const auto cellOfPoint = [&](const V3& c) {
+    return std::array<std::int64_t, 3>{ static_cast<std::int64_t>(std::floor(c.x() / side)),
+      static_cast<std::int64_t>(std::floor(c.y() / side)),
+      static_cast<std::int64_t>(std::floor(c.z() / side)) };
+  };
+  const auto block = [](std::int64_t v) { return v >= 0 ? v / 3 : -((2 - v) / 3); };
+  struct Sorted
+  {
+    std::int64_t Block, Cell, F;
+    bool operator<(const Sorted& o) const
     {
-      cellOf.emplace(order[i].first, static_cast<std::int64_t>(cellStart.size()));
+      return Block != o.Block ? Block < o.Block : (Cell != o.Cell ? Cell < o.Cell : F < o.F);
+    }
+  };
+  std::vector<Sorted> order(F);
+  vtkSMPTools::For(0, F, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t f = begin; f < end; ++f)
+    {
+      const auto c = cellOfPoint(centre[f]);
+      order[f] = { Pack(block(c[0]), block(c[1]), block(c[2])), Pack(c[0], c[1], c[2]), f };
+    }
+  });
+  std::sort(order.begin(), order.end());
+  std::vector<std::int64_t> cellStart, blockStart;
+  std::unordered_map<std::int64_t, std::int64_t> cellOf, blockOf;
+  for (std::int64_t i = 0; i < F; ++i)
+  {
+    if (i == 0 || order[i].Cell != order[i - 1].Cell)
+    {
+      cellOf.emplace(order[i].Cell, static_cast<std::int64_t>(cellStart.size()));
       cellStart.push_back(i);
     }
+    if (adaptive && (i == 0 || order[i].Block != order[i - 1].Block))
+    {
+      blockOf.emplace(order[i].Block, static_cast<std::int64_t>(blockStart.size()));
+      blockStart.push_back(i);
+    }
+  }
   const std::int64_t cells = static_cast<std::int64_t>(cellStart.size());
+  const std::int64_t blocks = static_cast<std::int64_t>(blockStart.size());
   cellStart.push_back(F);
-  enum Quantity
-  {
-    CX, CY, CZ, M0, M1, M2, SXX, SYY, SZZ, SXY, SXZ, SYZ, NX, NY, NZ, QUANTITIES
-  };
+  blockStart.push_back(F);
   std::vector<std::vector<double>> q(QUANTITIES, std::vector<double>(F));
   std::vector<int> side_(F, 0);
   std::vector<char> inner(F, 0);
   vtkSMPTools::For(0, F, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t i = begin; i < end; ++i)
     {
-      const std::int64_t f = order[i].second;
+      const std::int64_t f = order[i].F;
       const CorrectedMeasures& m = measures[f];
       const double values[QUANTITIES] = { centre[f].x(), centre[f].y(), centre[f].z(), m.Mu0, m.Mu1,
         m.Mu2, m.MuXY[0], m.MuXY[4], m.MuXY[8], 0.5 * (m.MuXY[1] + m.MuXY[3]),
@@ -408,6 +459,98 @@ bool ComputeCorrectedCurvatures(std::int64_t numberOfPoints, const double* point
       inner[i] = interior[f];
     }
   });
+  using Runs = std::vector<std::pair<std::int64_t, std::int64_t>>;
+  // The runs of faces in the 5 x 5 x 5 cells around a cell.
+  const auto neighbourRuns = [&](const std::array<std::int64_t, 3>& c, Runs& runs) {
+    runs.clear();
+    for (int dx = -2; dx <= 2; ++dx)
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dz = -2; dz <= 2; ++dz)
+        {
+          const auto it = cellOf.find(Pack(c[0] + dx, c[1] + dy, c[2] + dz));
+          if (it != cellOf.end())
+            runs.emplace_back(cellStart[it->second], cellStart[it->second + 1]);
+        }
+  };
+
+  // The faces a cell's balls of radius r <= R may hold, copied together
+  // (position, region, interior, the summed quantities): the faces of the
+  // 5 x 5 x 5 cells around it whose centre lies within r + l/2 of the box
+  // of the cell's face centres, in the cells' order.
+  struct Candidate
+  {
+    double X, Y, Z, Q[SUMS];
+    int Region, Inner;
+  };
+  const auto gather = [&](std::int64_t c, double r, Runs& runs, std::vector<Candidate>& candidates) {
+    V3 lo = centre[order[cellStart[c]].F], hi = lo;
+    for (std::int64_t i = cellStart[c]; i < cellStart[c + 1]; ++i)
+    {
+      lo = lo.cwiseMin(centre[order[i].F]);
+      hi = hi.cwiseMax(centre[order[i].F]);
+    }
+    neighbourRuns(cellOfPoint(lo), runs);
+    const double rr = r + 0.5 * l, rr2 = rr * rr;
+    candidates.clear();
+    for (const auto& run : runs)
+      for (std::int64_t j = run.first; j < run.second; ++j)
+      {
+        const double x = q[CX][j], y = q[CY][j], z = q[CZ][j];
+        const double ex = std::max({ lo.x() - x, 0.0, x - hi.x() });
+        const double ey = std::max({ lo.y() - y, 0.0, y - hi.y() });
+        const double ez = std::max({ lo.z() - z, 0.0, z - hi.z() });
+        if (ex * ex + ey * ey + ez * ez >= rr2)
+          continue;
+        Candidate cand;
+        cand.X = x;
+        cand.Y = y;
+        cand.Z = z;
+        for (int m = 0; m < SUMS; ++m)
+          cand.Q[m] = q[M0 + m][j];
+        cand.Region = side_[j];
+        cand.Inner = inner[j];
+        candidates.push_back(cand);
+      }
+  };
+
+  // The ball sums (q[M0..NZ]) around the face at position i of `order`,
+  // radius r <= R, over its cell's candidates: the interior faces of its
+  // region first, all of its region's faces when the ball holds none (a
+  // strip narrower than a face ring). Returns true when the ball is not a
+  // whole disc of interior faces of the face's region: it reaches a face of
+  // another region or a face along a crease, or it had to take all of its
+  // region's faces.
+  const auto ballSums = [&](std::int64_t i, double r, const std::vector<Candidate>& candidates,
+                          double* sum) {
+    const double x = q[CX][i], y = q[CY][i], z = q[CZ][i];
+    const double rr = r + 0.5 * l, rr2 = rr * rr;
+    const double full = std::max(r - 0.5 * l, 0.0), full2 = full * full; // weight 1 within
+    const int own = side_[i];
+    std::fill(sum, sum + QUANTITIES, 0.0);
+    double* total = sum + M0;
+    bool border = false;
+    int pass = 0;
+    for (; pass < 2 && !(sum[M0] > 0); ++pass)
+      for (const Candidate& cand : candidates)
+      {
+        const bool skip = cand.Region != own || (pass == 0 && !cand.Inner);
+        if (skip && border)
+          continue;
+        const double ex = cand.X - x, ey = cand.Y - y, ez = cand.Z - z;
+        const double d2 = ex * ex + ey * ey + ez * ez;
+        if (d2 >= rr2)
+          continue;
+        if (skip)
+        {
+          border = true;
+          continue;
+        }
+        const double w = d2 <= full2 ? 1.0 : std::min(1.0, 0.5 + (r - std::sqrt(d2)) / l);
+        for (int m = 0; m < SUMS; ++m)
+          total[m] += w * cand.Q[m];
+      }
+    return border || pass == 2;
+  };
 
   result.Mean.assign(F, 0.0);
   result.BallNormal.assign(3 * F, 0.0);
@@ -416,91 +559,463 @@ bool ComputeCorrectedCurvatures(std::int64_t numberOfPoints, const double* point
   result.K2.assign(F, 0.0);
   result.D1.assign(3 * F, 0.0);
   result.D2.assign(3 * F, 0.0);
+  result.BallRadius.assign(F, 0.0);
+  // The curvatures of face f from its ball sums; false when the ball has no
+  // area (the face keeps zeros). directions false: H, G, k1 and k2 only
+  // (a first pass whose face will be measured again).
+  const auto finish = [&](std::int64_t f, const double* sum, bool directions = true) {
+    V3 n(sum[NX], sum[NY], sum[NZ]);
+    const double mu0 = sum[M0], mu1 = sum[M1], mu2 = sum[M2];
+    if (!(mu0 > 0) || n.norm() == 0)
+      return false;
+    n.normalize();
+    if (directions)
+      for (int d = 0; d < 3; ++d)
+        result.BallNormal[3 * f + d] = n[d];
+    result.Mean[f] = mu1 / (2 * mu0);
+    result.Gaussian[f] = mu2 / mu0;
+    // Principal curvatures: the symmetrised anisotropic measure in the
+    // tangent plane of the ball's mean normal.
+    Eigen::Matrix3d T;
+    T << sum[SXX], sum[SXY], sum[SXZ], sum[SXY], sum[SYY], sum[SYZ], sum[SXZ], sum[SYZ], sum[SZZ];
+    T /= mu0;
+    const V3 t1 = n.unitOrthogonal();
+    const V3 t2 = n.cross(t1);
+    Eigen::Matrix2d A;
+    A << t1.dot(T * t1), t1.dot(T * t2), t2.dot(T * t1), t2.dot(T * t2);
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(
+      A, directions ? Eigen::ComputeEigenvectors : Eigen::EigenvaluesOnly);
+    // The measure's tangential eigenvalues are the principal curvatures
+    // with the opposite sign (muXY pairs the normal's change along Y
+    // with X x u, a quarter turn away), so the smallest is k1.
+    // The ball's faces turn away from its mean normal's plane, so the
+    // projected measure falls short of the curvature along each
+    // direction by about the mean cos^2 of that direction's turn (12 %
+    // for a ball of 7 on a tube of radius 10): most along the more
+    // curved direction. mu1 is exact, so the trace's deficit is given
+    // back to k1 and k2 in proportion to their size.
+    double k1 = -eig.eigenvalues()[0], k2 = -eig.eigenvalues()[1];
+    const double deficit = mu1 / mu0 - (k1 + k2), size = std::abs(k1) + std::abs(k2);
+    const double share1 = size > 0 ? std::abs(k1) / size : 0.5;
+    k1 += deficit * share1;
+    k2 += deficit * (1 - share1);
+    result.K1[f] = k1;
+    result.K2[f] = k2;
+    if (!directions)
+      return true;
+    const Eigen::Vector2d e1 = eig.eigenvectors().col(0), e2 = eig.eigenvectors().col(1);
+    const V3 d1 = (e1[0] * t1 + e1[1] * t2).normalized();
+    const V3 d2 = (e2[0] * t1 + e2[1] * t2).normalized();
+    for (int d = 0; d < 3; ++d)
+    {
+      result.D1[3 * f + d] = d1[d];
+      result.D2[3 * f + d] = d2[d];
+    }
+    return true;
+  };
+
+  // With the per-face radius: the faces of each cell and region are a
+  // group, with their interior faces' sums and mean centre, and a
+  // representative face, the one nearest the cell's centre (ties: the
+  // smaller global id), whose balls of R to 3R give the noise and the
+  // variation of the curvature around it (below).
+  std::vector<std::int64_t> cellGroupStart, blockGroupStart, groupRep;
+  std::vector<int> groupRegion;
+  std::vector<double> groupSums;
+  std::vector<V3> groupCentre;
+  if (adaptive)
+  {
+    cellGroupStart.assign(cells + 1, 0);
+    blockGroupStart.assign(blocks + 1, 0);
+    std::int64_t b = 0;
+    for (std::int64_t c = 0; c < cells; ++c)
+    {
+      while (b < blocks && blockStart[b] <= cellStart[c])
+        blockGroupStart[b++] = static_cast<std::int64_t>(groupRep.size());
+      cellGroupStart[c] = static_cast<std::int64_t>(groupRep.size());
+      const auto cc = cellOfPoint(centre[order[cellStart[c]].F]);
+      const V3 middle((cc[0] + 0.5) * side, (cc[1] + 0.5) * side, (cc[2] + 0.5) * side);
+      const std::size_t firstGroup = groupRep.size();
+      for (std::int64_t i = cellStart[c]; i < cellStart[c + 1]; ++i)
+      {
+        std::size_t g = firstGroup;
+        while (g < groupRep.size() && groupRegion[g] != side_[i])
+          ++g;
+        if (g == groupRep.size())
+        {
+          groupRep.push_back(i);
+          groupRegion.push_back(side_[i]);
+          groupSums.resize(groupSums.size() + SUMS, 0.0);
+          groupCentre.push_back(V3::Zero());
+        }
+        else
+        {
+          const std::int64_t j = groupRep[g];
+          const double di = (centre[order[i].F] - middle).squaredNorm();
+          const double dj = (centre[order[j].F] - middle).squaredNorm();
+          const std::int64_t idi = faceIds ? faceIds[order[i].F] : order[i].F;
+          const std::int64_t idj = faceIds ? faceIds[order[j].F] : order[j].F;
+          if (di < dj || (di == dj && idi < idj))
+            groupRep[g] = i;
+        }
+        if (inner[i])
+        {
+          for (int m = 0; m < SUMS; ++m)
+            groupSums[SUMS * g + m] += q[M0 + m][i];
+          groupCentre[g] += centre[order[i].F];
+        }
+      }
+      for (std::size_t g = firstGroup; g < groupRep.size(); ++g)
+      {
+        std::int64_t count = 0;
+        for (std::int64_t i = cellStart[c]; i < cellStart[c + 1]; ++i)
+          count += (inner[i] && side_[i] == groupRegion[g]) ? 1 : 0;
+        if (count > 0)
+          groupCentre[g] /= static_cast<double>(count);
+      }
+    }
+    while (b <= blocks)
+      blockGroupStart[b++] = static_cast<std::int64_t>(groupRep.size());
+    cellGroupStart[cells] = static_cast<std::int64_t>(groupRep.size());
+  }
+  const std::int64_t nGroups = static_cast<std::int64_t>(groupRep.size());
+  std::vector<char> isRep(adaptive ? F : 0, 0);
+  for (const std::int64_t i : groupRep)
+    isRep[i] = 1;
+
+  // First pass: every face's ball of radius R. With the per-face radius,
+  // its sums are kept (the larger balls add to them), and whether the ball
+  // is a whole disc of its region's interior faces: a face whose ball of R
+  // reaches its region's border keeps R (the rule below assumes a disc; on
+  // a strip narrower than the ball, a cube's side near its edges, the noise
+  // and the bias grow otherwise with r).
+  std::vector<double> firstSums(adaptive ? static_cast<std::size_t>(SUMS) * F : 0);
+  std::vector<char> keepRadius(adaptive ? F : 0, 0);
   vtkSMPTools::For(0, cells, [&](std::int64_t begin, std::int64_t end) {
-    std::vector<std::pair<std::int64_t, std::int64_t>> runs;
+    Runs runs;
+    std::vector<Candidate> candidates;
+    double sum[QUANTITIES];
     for (std::int64_t c = begin; c < end; ++c)
     {
-      runs.clear();
       const std::int64_t first = cellStart[c];
-      const V3& anchor = centre[order[first].second];
-      for (int dx = -2; dx <= 2; ++dx)
-        for (int dy = -2; dy <= 2; ++dy)
-          for (int dz = -2; dz <= 2; ++dz)
-          {
-            const auto it = cellOf.find(Key(anchor, side, dx, dy, dz));
-            if (it != cellOf.end())
-              runs.emplace_back(cellStart[it->second], cellStart[it->second + 1]);
-          }
+      candidates.clear();
       for (std::int64_t i = first; i < cellStart[c + 1]; ++i)
       {
-        const std::int64_t f = order[i].second;
-        if (isGhost(f))
+        const std::int64_t f = order[i].F;
+        if (isGhost(f) && !(adaptive && isRep[i]))
           continue;
-        const double x = q[CX][i], y = q[CY][i], z = q[CZ][i];
-        const int own = side_[i];
-        double sum[QUANTITIES] = {};
-        // Interior faces first; all of the region's faces when the ball
-        // holds none (a strip narrower than a face ring).
-        for (int pass = 0; pass < 2 && !(sum[M0] > 0); ++pass)
-          for (const auto& run : runs)
-            for (std::int64_t j = run.first; j < run.second; ++j)
-            {
-              if (side_[j] != own || (pass == 0 && !inner[j]))
-                continue;
-              const double ex = q[CX][j] - x, ey = q[CY][j] - y, ez = q[CZ][j] - z;
-              const double d2 = ex * ex + ey * ey + ez * ez;
-              if (d2 >= reach2)
-                continue;
-              const double w = std::min(1.0, 0.5 + (R - std::sqrt(d2)) / l);
-              for (int k = M0; k < QUANTITIES; ++k)
-                sum[k] += w * q[k][j];
-            }
-        V3 n(sum[NX], sum[NY], sum[NZ]);
-        const double mu0 = sum[M0], mu1 = sum[M1], mu2 = sum[M2];
-        if (!(mu0 > 0) || n.norm() == 0)
-          continue;
-        n.normalize();
-        for (int d = 0; d < 3; ++d)
-          result.BallNormal[3 * f + d] = n[d];
-        result.Mean[f] = mu1 / (2 * mu0);
-        result.Gaussian[f] = mu2 / mu0;
-        // Principal curvatures: the symmetrised anisotropic measure in the
-        // tangent plane of the ball's mean normal.
-        Eigen::Matrix3d T;
-        T << sum[SXX], sum[SXY], sum[SXZ], sum[SXY], sum[SYY], sum[SYZ], sum[SXZ], sum[SYZ], sum[SZZ];
-        T /= mu0;
-        const V3 t1 = n.unitOrthogonal();
-        const V3 t2 = n.cross(t1);
-        Eigen::Matrix2d A;
-        A << t1.dot(T * t1), t1.dot(T * t2), t2.dot(T * t1), t2.dot(T * t2);
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(A);
-        // The measure's tangential eigenvalues are the principal curvatures
-        // with the opposite sign (muXY pairs the normal's change along Y
-        // with X x u, a quarter turn away), so the smallest is k1.
-        // The ball's faces turn away from its mean normal's plane, so the
-        // projected measure falls short of the curvature along each
-        // direction by about the mean cos^2 of that direction's turn (12 %
-        // for a ball of 7 on a tube of radius 10): most along the more
-        // curved direction. mu1 is exact, so the trace's deficit is given
-        // back to k1 and k2 in proportion to their size.
-        double k1 = -eig.eigenvalues()[0], k2 = -eig.eigenvalues()[1];
-        const double deficit = mu1 / mu0 - (k1 + k2), size = std::abs(k1) + std::abs(k2);
-        const double share1 = size > 0 ? std::abs(k1) / size : 0.5;
-        k1 += deficit * share1;
-        k2 += deficit * (1 - share1);
-        const Eigen::Vector2d e1 = eig.eigenvectors().col(0), e2 = eig.eigenvectors().col(1);
-        const V3 d1 = (e1[0] * t1 + e1[1] * t2).normalized();
-        const V3 d2 = (e2[0] * t1 + e2[1] * t2).normalized();
-        result.K1[f] = k1;
-        result.K2[f] = k2;
-        for (int d = 0; d < 3; ++d)
+        if (candidates.empty())
+          gather(c, R, runs, candidates);
+        const bool border = ballSums(i, R, candidates, sum);
+        // A face that will be measured again needs only its k1, k2 here.
+        if (!isGhost(f) && finish(f, sum, !adaptive || border))
+          result.BallRadius[f] = R;
+        if (adaptive)
         {
-          result.D1[3 * f + d] = d1[d];
-          result.D2[3 * f + d] = d2[d];
+          std::copy(sum + M0, sum + QUANTITIES, firstSums.begin() + SUMS * i);
+          keepRadius[i] = border ? 1 : 0;
         }
       }
     }
   });
+
+  if (adaptive)
+  {
+    // The ball radius per face (docs/curvature-measures.md, "The ball radius
+    // per face"). The error of H over a ball of radius r is a bias that
+    // grows like a r^2 where the curvature varies (a = Laplacian(H) / 8 on
+    // a flat disc) and a noise whose deviation falls like s r^-3/2 (the
+    // ball's mu1 is the flux of the field's tangential error through its
+    // rim: a sum along its length ~ r, over its area ~ r^2). Their squared
+    // sum is smallest at r* = R (3 s_R^2 / (4 a^2 R^4))^(1/7), s_R the
+    // noise at R. s_R and a are measured around each face from balls of R,
+    // 1.5 R, 2 R and 3 R; r* is kept within [2R/3, 3R] and below the face's
+    // smallest curvature radius 1 / max(|k1|, |k2|) (a larger ball reaches
+    // round the surface, where the expansion no longer holds).
+    const double ladder[] = { 1.0, 1.25, 1.5, 1.75, 2.0, 2.5, 3.0 };
+    constexpr int K = 7, K15 = 2, K2 = 4, K3 = 6;
+    double L[K];
+    for (int k = 0; k < K; ++k)
+      L[k] = ladder[k] * R;
+    const double minRadius = kMinRadiusFactor * R, maxRadius = kMaxRadiusFactor * R;
+    // Cells' sums count in a ball by their centre's distance with a ramp as
+    // wide as a cell (their faces spread over it).
+    const double soft = side, ringReach = maxRadius + 0.5 * soft;
+
+    // Rings: for each representative (below), its cumulative sums C_k over
+    // the balls of L[k], from the cells' sums of their region's interior
+    // faces; a face's ball of r > R is its own ball of R plus C(r) - C_0 of
+    // the representatives near it, blended.
+    std::vector<double> ring(static_cast<std::size_t>(nGroups) * K * SUMS, 0.0);
+    std::vector<double> repH(static_cast<std::size_t>(nGroups) * 4, 0.0); // H at R, 1.5R, 2R, 3R
+    std::vector<char> repValid(nGroups, 0);
+    struct GroupCandidate
+    {
+      double X, Y, Z, Q[SUMS];
+      int Region;
+    };
+    vtkSMPTools::For(0, blocks, [&](std::int64_t begin, std::int64_t end) {
+      std::vector<GroupCandidate> near;
+      for (std::int64_t b = begin; b < end; ++b)
+      {
+        const std::int64_t g0 = blockGroupStart[b], g1 = blockGroupStart[b + 1];
+        if (g0 == g1)
+          continue;
+        // The groups within ringReach of the box of the block's
+        // representatives, from the 7 x 7 x 7 blocks around it.
+        V3 lo = centre[order[groupRep[g0]].F], hi = lo;
+        for (std::int64_t g = g0; g < g1; ++g)
+        {
+          lo = lo.cwiseMin(centre[order[groupRep[g]].F]);
+          hi = hi.cwiseMax(centre[order[groupRep[g]].F]);
+        }
+        const auto cc = cellOfPoint(centre[order[blockStart[b]].F]);
+        const std::int64_t bx = block(cc[0]), by = block(cc[1]), bz = block(cc[2]);
+        near.clear();
+        for (int dx = -3; dx <= 3; ++dx)
+          for (int dy = -3; dy <= 3; ++dy)
+            for (int dz = -3; dz <= 3; ++dz)
+            {
+              const auto it = blockOf.find(Pack(bx + dx, by + dy, bz + dz));
+              if (it == blockOf.end())
+                continue;
+              for (std::int64_t h = blockGroupStart[it->second]; h < blockGroupStart[it->second + 1]; ++h)
+              {
+                if (!(groupSums[SUMS * h] > 0))
+                  continue;
+                const V3& x = groupCentre[h];
+                const double ex = std::max({ lo.x() - x.x(), 0.0, x.x() - hi.x() });
+                const double ey = std::max({ lo.y() - x.y(), 0.0, x.y() - hi.y() });
+                const double ez = std::max({ lo.z() - x.z(), 0.0, x.z() - hi.z() });
+                if (ex * ex + ey * ey + ez * ez >= ringReach * ringReach)
+                  continue;
+                GroupCandidate cand;
+                cand.X = x.x();
+                cand.Y = x.y();
+                cand.Z = x.z();
+                for (int m = 0; m < SUMS; ++m)
+                  cand.Q[m] = groupSums[SUMS * h + m];
+                cand.Region = groupRegion[h];
+                near.push_back(cand);
+              }
+            }
+        for (std::int64_t g = g0; g < g1; ++g)
+        {
+          const std::int64_t i = groupRep[g];
+          const double* s0 = &firstSums[SUMS * i];
+          if (!(s0[0] > 0))
+            continue;
+          double* s = &ring[static_cast<std::size_t>(g) * K * SUMS];
+          const V3 x = centre[order[i].F];
+          for (const GroupCandidate& cand : near)
+          {
+            if (cand.Region != groupRegion[g])
+              continue;
+            const double ex = cand.X - x.x(), ey = cand.Y - x.y(), ez = cand.Z - x.z();
+            const double d2 = ex * ex + ey * ey + ez * ez;
+            if (d2 >= ringReach * ringReach)
+              continue;
+            const double d = std::sqrt(d2);
+            double before = 0;
+            for (int k = 0; k < K && before < 1; ++k)
+            {
+              const double w = std::min(1.0, std::max(0.0, 0.5 + (L[k] - d) / soft));
+              if (w > before)
+              {
+                double* sk = s + k * SUMS;
+                for (int m = 0; m < SUMS; ++m)
+                  sk[m] += (w - before) * cand.Q[m];
+                before = w;
+              }
+            }
+          }
+          for (int k = 1; k < K; ++k)
+            for (int m = 0; m < SUMS; ++m)
+              s[k * SUMS + m] += s[(k - 1) * SUMS + m];
+          bool valid = true;
+          const int at[4] = { 0, K15, K2, K3 };
+          for (int n = 0; n < 4 && valid; ++n)
+          {
+            const int k = at[n];
+            const double mu0 = s0[0] + s[k * SUMS] - s[0], mu1 = s0[M1 - M0] + s[k * SUMS + M1 - M0] - s[M1 - M0];
+            valid = mu0 > 0;
+            repH[4 * g + n] = valid ? mu1 / (2 * mu0) : 0;
+          }
+          repValid[g] = valid ? 1 : 0;
+        }
+      }
+    });
+
+    // Per representative whose ball of R is a whole disc: the noise s_R and
+    // the bias a from the representatives of the 3 x 3 x 3 cells around it.
+    // E = H(R) - 12/7 H(1.5R) + 5/7 H(2R) cancels a constant and a bias in
+    // r^2, so it is noise only; D2 = H(2R) - H(R) = 3 a R^2 and D3 = H(3R) -
+    // H(R) = 8 a R^2 plus noise (the larger of the two biases counts: the
+    // bias is not exactly quadratic). The noise of balls of R, 1.5 R, 2 R,
+    // 3 R is independent (their rims differ): Var(E) = s_R^2 (1 + (12/7)^2
+    // / 1.5^3 + (5/7)^2 / 2^3), Var(D2) = s_R^2 (1 + 1/2^3), Var(D3) = s_R^2
+    // (1 + 1/3^3); the mean of D over the neighbourhood holds about 4
+    // independent samples (faces closer than R/2 share the noise of H(R)),
+    // whose part is taken off D's square.
+    const double varE = 1 + (144.0 / 49.0) / 3.375 + (25.0 / 49.0) / 8.0, var2 = 1.125,
+                 var3 = 1 + 1.0 / 27, samples = 4, R4 = R * R * R * R;
+    std::vector<double> repRadius(nGroups, 0.0);
+    vtkSMPTools::For(0, cells, [&](std::int64_t begin, std::int64_t end) {
+      for (std::int64_t c = begin; c < end; ++c)
+      {
+        const auto cc = cellOfPoint(centre[order[cellStart[c]].F]);
+        double e2 = 0, d2 = 0, d3 = 0;
+        int n = 0;
+        bool any = false;
+        for (std::int64_t g = cellGroupStart[c]; g < cellGroupStart[c + 1]; ++g)
+          any = any || (repValid[g] && !keepRadius[groupRep[g]]);
+        if (!any)
+          continue;
+        for (std::int64_t g = cellGroupStart[c]; g < cellGroupStart[c + 1]; ++g)
+        {
+          if (!repValid[g] || keepRadius[groupRep[g]])
+            continue;
+          e2 = d2 = d3 = 0;
+          n = 0;
+          for (int dx = -1; dx <= 1; ++dx)
+            for (int dy = -1; dy <= 1; ++dy)
+              for (int dz = -1; dz <= 1; ++dz)
+              {
+                const auto it = cellOf.find(Pack(cc[0] + dx, cc[1] + dy, cc[2] + dz));
+                if (it == cellOf.end())
+                  continue;
+                for (std::int64_t h = cellGroupStart[it->second]; h < cellGroupStart[it->second + 1]; ++h)
+                  if (groupRegion[h] == groupRegion[g] && repValid[h] && !keepRadius[groupRep[h]])
+                  {
+                    const double* H = &repH[4 * h];
+                    const double E = H[0] - 12.0 / 7.0 * H[1] + 5.0 / 7.0 * H[2];
+                    e2 += E * E;
+                    d2 += H[2] - H[0];
+                    d3 += H[3] - H[0];
+                    ++n;
+                  }
+              }
+          const double noise2 = e2 / n / varE;
+          d2 /= n;
+          d3 /= n;
+          const double a2 = std::max(std::max(d2 * d2 - var2 * noise2 / samples, 0.0) / 9,
+                              std::max(d3 * d3 - var3 * noise2 / samples, 0.0) / 64) / R4;
+          repRadius[g] = a2 > 0 ? R * std::pow(0.75 * noise2 / (a2 * R4), 1.0 / 7.0) : maxRadius;
+        }
+      }
+    });
+
+    // Per face whose ball of R is a whole disc: the representatives within
+    // 1.5 cells, weighted 1 - d / 1.5 cells, give the radius (then bounded
+    // by the face's own curvature radius and [2R/3, 3R]) and the rings.
+    const double blend = 1.5 * side, cellReach = blend + 0.5 * std::sqrt(3.0) * side;
+    struct NearRep
+    {
+      double X, Y, Z;
+      std::int64_t G;
+      int Region;
+    };
+    vtkSMPTools::For(0, cells, [&](std::int64_t begin, std::int64_t end) {
+      Runs runs;
+      std::vector<Candidate> candidates;
+      std::vector<NearRep> nearGroups;
+      std::vector<std::pair<std::int64_t, double>> weights;
+      double sum[QUANTITIES];
+      for (std::int64_t c = begin; c < end; ++c)
+      {
+        const std::int64_t first = cellStart[c];
+        bool any = false;
+        for (std::int64_t i = first; i < cellStart[c + 1] && !any; ++i)
+          any = !isGhost(order[i].F) && !keepRadius[i] && result.BallRadius[order[i].F] > 0;
+        if (!any)
+          continue;
+        // The representatives that may lie within `blend` of a face of the
+        // cell, and the cell's runs, once a face needs a smaller ball.
+        const auto cc = cellOfPoint(centre[order[first].F]);
+        const V3 middle((cc[0] + 0.5) * side, (cc[1] + 0.5) * side, (cc[2] + 0.5) * side);
+        nearGroups.clear();
+        for (int dx = -2; dx <= 2; ++dx)
+          for (int dy = -2; dy <= 2; ++dy)
+            for (int dz = -2; dz <= 2; ++dz)
+            {
+              const auto it = cellOf.find(Pack(cc[0] + dx, cc[1] + dy, cc[2] + dz));
+              if (it != cellOf.end())
+                for (std::int64_t g = cellGroupStart[it->second]; g < cellGroupStart[it->second + 1]; ++g)
+                {
+                  const V3& x = centre[order[groupRep[g]].F];
+                  if (repRadius[g] > 0 && (x - middle).squaredNorm() < cellReach * cellReach)
+                    nearGroups.push_back({ x.x(), x.y(), x.z(), g, groupRegion[g] });
+                }
+            }
+        candidates.clear();
+        for (std::int64_t i = first; i < cellStart[c + 1]; ++i)
+        {
+          const std::int64_t f = order[i].F;
+          if (isGhost(f) || keepRadius[i] || result.BallRadius[f] == 0)
+            continue;
+          double wSum = 0, r = 0;
+          weights.clear();
+          const double x = q[CX][i], y = q[CY][i], z = q[CZ][i];
+          for (const NearRep& near : nearGroups)
+          {
+            const double ex = near.X - x, ey = near.Y - y, ez = near.Z - z;
+            const double d2 = ex * ex + ey * ey + ez * ez;
+            if (near.Region != side_[i] || d2 >= blend * blend)
+              continue;
+            const double w = 1 - std::sqrt(d2) / blend;
+            weights.emplace_back(near.G, w);
+            wSum += w;
+            r += w * repRadius[near.G];
+          }
+          const auto keep = [&]() {
+            std::copy(firstSums.begin() + SUMS * i, firstSums.begin() + SUMS * (i + 1), sum + M0);
+            finish(f, sum);
+          };
+          if (wSum == 0)
+          {
+            keep();
+            continue;
+          }
+          r /= wSum;
+          const double kappa = std::max(std::abs(result.K1[f]), std::abs(result.K2[f]));
+          if (kappa > 0)
+            r = std::min(r, 1 / kappa);
+          r = std::min(maxRadius, std::max(minRadius, r));
+          if (r < R)
+          {
+            if (candidates.empty())
+              gather(c, R, runs, candidates);
+            ballSums(i, r, candidates, sum);
+            if (finish(f, sum))
+              result.BallRadius[f] = r;
+            else
+              keep();
+          }
+          else if (r == R)
+            keep();
+          else
+          {
+            int k = 0;
+            while (k + 2 < K && L[k + 1] < r)
+              ++k;
+            const double t = std::min(1.0, (r * r - L[k] * L[k]) / (L[k + 1] * L[k + 1] - L[k] * L[k]));
+            std::copy(firstSums.begin() + SUMS * i, firstSums.begin() + SUMS * (i + 1), sum + M0);
+            for (const auto& w : weights)
+            {
+              const double* s = &ring[static_cast<std::size_t>(w.first) * K * SUMS];
+              const double u = w.second / wSum;
+              for (int m = 0; m < SUMS; ++m)
+                sum[M0 + m] += u * ((1 - t) * s[k * SUMS + m] + t * s[(k + 1) * SUMS + m] - s[m]);
+            }
+            if (finish(f, sum))
+              result.BallRadius[f] = r;
+            else
+              keep();
+          }
+        }
+      }
+    });
+  }
 
   // The integral of H: per side, each interior face's own measure and each
   // boundary face's ball estimate over its area, plus what the creases hold;
