@@ -68,7 +68,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
   graph.Build(offsets, connectivity);
 
   // Face centres, polygon normals (Newell) and unit field normals.
-  std::vector<Vec3> centre(F), polyNormal(F), field(F), input(F);
+  std::vector<Vec3> centre(F), polyNormal(F), areaVector(F), field(F), input(F);
   vtkSMPTools::For(0, F, [&](std::int64_t b, std::int64_t e) {
     for (std::int64_t f = b; f < e; ++f)
     {
@@ -83,6 +83,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       }
       centre[f] = m > 0 ? c * (1.0 / m) : c;
       polyNormal[f] = n.Unit();
+      areaVector[f] = n * 0.5;
       field[f] = Vec3(normals[3 * f], normals[3 * f + 1], normals[3 * f + 2]).Unit();
       input[f] = inputNormals
         ? Vec3(inputNormals[3 * f], inputNormals[3 * f + 1], inputNormals[3 * f + 2]).Unit()
@@ -674,45 +675,63 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
   // so from here on only this test's creases keep parts apart; bends merge
   // smallest jump first (a sliver cut off a curved part joins the side it
   // continues before the side across a crease can reach it through it).
+  // Merged bends make larger sides, whose fits and turns reach farther
+  // from the lines left: those lines are tested again (at most
+  // CreaseRounds times, until no bend merges).
   {
-    std::vector<int> group(F, -1);
-    for (std::int64_t f = 0; f < F; ++f)
-      if (assigned[f] >= 0)
-        group[f] = uf.Find(assigned[f]);
     CreaseTestSettings cs;
     cs.Near = 0.75 * par.InputRadius * meanEdge2;
     cs.Far = cs.Near + 5.0 * meanEdge2;
     cs.MinimumAngle = par.MinimumFeatureAngle;
     cs.CornerDepth = par.CornerDepth * meanEdge2;
+    cs.MinimumTurnShare = par.MinimumTurnShare;
     cs.EdgeLength = meanEdge2;
+    cs.TurnNear *= meanEdge2;
+    cs.TurnFarFrom *= meanEdge2;
+    cs.TurnFar *= meanEdge2;
+    cs.TurnSlab *= meanEdge2;
     const auto creaseStart = std::chrono::steady_clock::now();
-    const std::vector<CreaseVerdict> verdicts =
-      TestCreases(graph, centre, input, out, group, cornerDepth, cs);
+    constexpr int CreaseRounds = 3;
+    std::vector<int> group(F, -1);
+    for (int round = 0; round < CreaseRounds; ++round)
+    {
+      for (std::int64_t f = 0; f < F; ++f)
+        group[f] = assigned[f] >= 0 ? uf.Find(assigned[f]) : -1;
+      const std::vector<CreaseVerdict> verdicts =
+        TestCreases(graph, centre, areaVector, input, out, group, cornerDepth, cs);
+      for (auto& a : apart)
+        a.clear();
+      result.NumberOfCreases = 0;
+      std::vector<std::pair<double, std::pair<int, int>>> bends;
+      for (const CreaseVerdict& c : verdicts)
+      {
+        if (c.Crease)
+        {
+          apart[c.A].push_back(c.B);
+          apart[c.B].push_back(c.A);
+          ++result.NumberOfCreases;
+        }
+        else
+        {
+          bends.push_back({ std::isnan(c.Jump) ? -1.0 : c.Jump, { c.A, c.B } });
+        }
+      }
+      std::sort(bends.begin(), bends.end());
+      int merged = 0;
+      for (const auto& b : bends)
+      {
+        const int ra = uf.Find(b.second.first), rb = uf.Find(b.second.second);
+        if (ra != rb && unite(ra, rb))
+        {
+          ++result.NumberOfBends;
+          ++merged;
+        }
+      }
+      if (merged == 0)
+        break;
+    }
     result.CreaseTestSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - creaseStart).count();
-    for (auto& a : apart)
-      a.clear();
-    std::vector<std::pair<double, std::pair<int, int>>> bends;
-    for (const CreaseVerdict& c : verdicts)
-    {
-      if (c.Crease)
-      {
-        apart[c.A].push_back(c.B);
-        apart[c.B].push_back(c.A);
-        ++result.NumberOfCreases;
-      }
-      else
-      {
-        bends.push_back({ std::isnan(c.Jump) ? -1.0 : c.Jump, { c.A, c.B } });
-      }
-    }
-    std::sort(bends.begin(), bends.end());
-    for (const auto& b : bends)
-    {
-      const int ra = uf.Find(b.second.first), rb = uf.Find(b.second.second);
-      if (ra != rb && unite(ra, rb))
-        ++result.NumberOfBends;
-    }
   }
 
   // Renumber the merged regions in order of first appearance.

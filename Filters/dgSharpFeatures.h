@@ -41,8 +41,11 @@
 //    fitted on each side beyond 0.75 InputRadius and extrapolated to the
 //    line, jump by more than MinimumFeatureAngle plus what the sides'
 //    curvature and noise explain, and the band's voxels reach the corner
-//    its sides make (CornerDepth). The others (AT's terraces on curved
-//    parts, fillets) merge.
+//    its sides make (CornerDepth), and the voxels turn at the line: the
+//    two sides' summed face area vectors within 2.5 edges of it meet at
+//    MinimumTurnShare or more of their angle 4.5-9.5 edges out. The
+//    others (AT's terraces on curved parts, fillets) merge, and the lines
+//    left between the larger parts are tested again (up to 3 rounds).
 // 6. Features: the edges between faces of two different (merged) regions.
 //    The line runs where the two sides' faces meet: one staircase line.
 // 7. The output field (dgSharpFeaturesField.h): AT's u-step with v fixed to
@@ -89,6 +92,8 @@ struct SharpFeatureParameters
   double InputRadius = 4.0;  // edge lengths: how far the input normals blur a crease (II's radius)
   double CornerDepth = 0.6;  // edge lengths: a line whose band faces lie deeper inside the
                              // corner of its two sides is a bend (a fillet), not a crease
+  double MinimumTurnShare = 0.5; // a line whose sides meet within 2.5 edges of it at less than
+                                 // this share of their angle 4.5-9.5 edges out is a bend
   double FieldAlpha = 0.0;   // data weight of the output field; 0: from the noise the surface
                              // shows; < 0: no field (the side and region normals as they are)
 };

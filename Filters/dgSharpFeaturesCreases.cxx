@@ -5,6 +5,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
@@ -37,7 +38,15 @@ double Angle(const Vec3& a, const Vec3& b)
 
 struct FitScratch : BreadthScratch
 {
-  std::vector<std::int64_t> Faces;
+  std::vector<std::int64_t> Faces, Turn, Line;
+};
+
+// One side's area vectors summed near the line and farther out, within a
+// slab across it.
+struct TurnSums
+{
+  Vec3 Near, Far;
+  int NearCount = 0, FarCount = 0;
 };
 
 // A side's input normals as a linear function of the position, fitted to
@@ -100,11 +109,56 @@ SideFit FitSide(const std::vector<std::int64_t>& faces, const std::vector<Vec3>&
   return out;
 }
 
+// The line's direction near x0 (the principal axis of the line faces'
+// centres), then each side face within TurnSlab of x0 along it, summed by
+// its distance across.
+TurnSums MeasureTurn(const std::vector<Vec3>& centre, const std::vector<Vec3>& area, const Vec3& x0,
+  const std::vector<std::int64_t>& line, const std::vector<std::int64_t>& faces,
+  const CreaseTestSettings& settings)
+{
+  TurnSums out;
+  if (line.size() < 3)
+    return out;
+  Vec3 mean;
+  for (std::int64_t f : line)
+    mean += centre[f];
+  mean = mean * (1.0 / line.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (std::int64_t f : line)
+  {
+    const Vec3 d = centre[f] - mean;
+    const Eigen::Vector3d v(d.x, d.y, d.z);
+    cov += v * v.transpose();
+  }
+  const Eigen::Vector3d t =
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvectors().col(2);
+  const Vec3 tangent(t(0), t(1), t(2));
+  for (std::int64_t f : faces)
+  {
+    const Vec3 d = centre[f] - x0;
+    const double along = d.Dot(tangent);
+    if (std::abs(along) > settings.TurnSlab)
+      continue;
+    const double across = (d - tangent * along).Norm();
+    if (across <= settings.TurnNear)
+    {
+      out.Near += area[f];
+      ++out.NearCount;
+    }
+    else if (across >= settings.TurnFarFrom && across <= settings.TurnFar)
+    {
+      out.Far += area[f];
+      ++out.FarCount;
+    }
+  }
+  return out;
+}
+
 } // namespace
 
 std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector<Vec3>& centre,
-  const std::vector<Vec3>& input, const std::vector<Vec3>& sides, const std::vector<int>& group,
-  const std::vector<double>& cornerDepth, const CreaseTestSettings& settings)
+  const std::vector<Vec3>& area, const std::vector<Vec3>& input, const std::vector<Vec3>& sides,
+  const std::vector<int>& group, const std::vector<double>& cornerDepth, const CreaseTestSettings& settings)
 {
   const std::int64_t F = static_cast<std::int64_t>(group.size());
   struct Edge
@@ -133,10 +187,22 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
   std::vector<float> distance(F, -1.0f);
   std::vector<std::int64_t> reached;
   std::vector<SideFit> fits(F);
+  std::vector<TurnSums> turns(F);
+  std::vector<char> turnSeed(F, 0);
+  constexpr std::size_t TurnSamples = 16;
   vtkSMPThreadLocal<FitScratch> scratch;
   std::vector<CreaseVerdict> verdicts;
-  // A face is searched within this many steps for its side's fit faces.
-  const int steps = static_cast<int>(std::ceil(1.5 * settings.Far)) + 2;
+  const bool turn = settings.MinimumTurnShare > 0;
+  const double reach = turn ? std::max(settings.Far, settings.TurnFar) : settings.Far;
+  // A face is searched within this many steps for its side's fit faces,
+  // and within `steps` for the voxel-scale turn.
+  const int fitSteps = static_cast<int>(std::ceil(1.5 * settings.Far)) + 2;
+  const int steps = turn
+    ? std::max(fitSteps,
+        static_cast<int>(std::ceil(1.5 * std::hypot(settings.TurnFar, settings.TurnSlab))) + 2)
+    : fitSteps;
+  // The line's direction at a face: from the line faces within this length.
+  const double tangentReach = 4 * settings.EdgeLength;
   for (const auto& line : lines)
   {
     const int ga = line.first.first;
@@ -151,10 +217,18 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
           reached.push_back(f);
         }
     const std::vector<std::int64_t> seeds(reached);
+    // The turn's medians need no more than about TurnSamples edges per
+    // line: every stride-th edge's two faces measure it.
+    if (turn)
+    {
+      const std::size_t stride = std::max<std::size_t>(1, line.second.size() / TurnSamples);
+      for (std::size_t k = 0; k < line.second.size(); k += stride)
+        turnSeed[line.second[k].A] = turnSeed[line.second[k].B] = 1;
+    }
     for (std::size_t h = 0; h < reached.size(); ++h)
     {
       const std::int64_t f = reached[h];
-      if (distance[f] > settings.Far + settings.EdgeLength)
+      if (distance[f] > reach + settings.EdgeLength)
         continue;
       for (std::int64_t k = graph.FaceEdgePtr[f]; k < graph.FaceEdgePtr[f + 1]; ++k)
       {
@@ -177,18 +251,31 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
       {
         const std::int64_t f0 = seeds[i];
         s.Faces.clear();
-        Breadth(graph, s, f0, steps, [&](std::int64_t g) { return seedOf[g] >= 0; },
-          [&](std::int64_t f, int, int limit) {
+        s.Turn.clear();
+        s.Line.clear();
+        const bool measure = turnSeed[f0] != 0;
+        Breadth(graph, s, f0, measure ? steps : fitSteps, [&](std::int64_t g) { return seedOf[g] >= 0; },
+          [&](std::int64_t f, int depth, int limit) {
             // Faces turned away from the line face (the far side of a part
             // thinner than the window) are not this side's surface.
-            if (side[f] == side[f0] && distance[f] >= settings.Near &&
-              distance[f] <= settings.Far && input[f].Dot(input[f0]) > 0)
+            const bool facing = input[f].Dot(input[f0]) > 0;
+            if (depth <= fitSteps && side[f] == side[f0] && distance[f] >= settings.Near &&
+              distance[f] <= settings.Far && facing)
               s.Faces.push_back(f);
+            // Only the side's own part: past a narrow side another part
+            // (across its other line) is not the surface that turns here.
+            if (measure && group[f] == group[f0] && distance[f] <= settings.TurnFar && facing)
+              s.Turn.push_back(f);
+            if (measure && seedOf[f] == f && (centre[f] - centre[f0]).Norm() <= tangentReach)
+              s.Line.push_back(f);
             return limit;
           });
         fits[f0] = static_cast<int>(s.Faces.size()) >= settings.MinimumFit
           ? FitSide(s.Faces, centre, input, centre[f0])
           : SideFit();
+        turns[f0] = measure
+          ? MeasureTurn(centre, area, centre[f0], s.Line, s.Turn, settings)
+          : TurnSums();
       }
     });
 
@@ -196,9 +283,15 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
     v.A = line.first.first;
     v.B = line.first.second;
     v.Edges = static_cast<int>(line.second.size());
-    std::vector<double> jumps, rateA, rateB, residuals, depths;
+    std::vector<double> jumps, rateA, rateB, residuals, depths, nearTurns, farTurns;
     for (const Edge& be : line.second)
     {
+      const TurnSums &ta = turns[be.A], &tb = turns[be.B];
+      if (ta.NearCount >= 3 && tb.NearCount >= 3 && ta.FarCount >= 3 && tb.FarCount >= 3)
+      {
+        nearTurns.push_back(Angle(ta.Near, tb.Near));
+        farTurns.push_back(Angle(ta.Far, tb.Far));
+      }
       const SideFit &a = fits[be.A], &b = fits[be.B];
       if (!a.Valid || !b.Valid)
         continue;
@@ -217,6 +310,8 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
     }
     v.Jump = Median(jumps);
     v.Depth = Median(depths);
+    const double farTurn = Median(farTurns);
+    v.TurnShare = farTurn > 0 ? Median(nearTurns) / farTurn : std::numeric_limits<double>::quiet_NaN();
     const double curvature = jumps.empty()
       ? 0.0
       : std::max(0.0, std::max(Median(rateA), Median(rateB))) * settings.Near;
@@ -233,13 +328,17 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
     // thick): a crease when the stage's own side normals jump by a sure
     // angle across the line and its voxels reach the corner.
     const bool fitted = static_cast<int>(jumps.size()) >= settings.MinimumSamples;
-    v.Crease = fitted && !deep && v.Jump >= settings.MinimumAngle + v.Allowance;
+    // A slab's two faces (sides facing apart) make no turn to measure.
+    const bool turning = static_cast<int>(nearTurns.size()) >= settings.MinimumSamples &&
+      sideJump < 120 && v.TurnShare < settings.MinimumTurnShare;
+    v.Crease = fitted && !deep && !turning && v.Jump >= settings.MinimumAngle + v.Allowance;
     verdicts.push_back(v);
     for (std::int64_t f : reached)
     {
       seedOf[f] = -1;
       side[f] = 0;
       distance[f] = -1.0f;
+      turnSeed[f] = 0;
     }
   }
   return verdicts;

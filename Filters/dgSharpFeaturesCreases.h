@@ -20,6 +20,14 @@
 // the two faces of a slab thinner than AT's band) make no corner, and only
 // the jump decides. A line whose sides cannot be fitted beyond the blur
 // shows no crease and is a bend.
+//
+// Last, the voxels themselves: a crease turns at the line, a bend all along
+// its width. Each side's mean normal near the line (TurnNear) and farther
+// out (TurnFar) is the sum of its faces' area vectors, which noise leaves
+// alone (a bump's faces add up to nothing but its rim). A crease's sides
+// meet near the line at most of the angle they make farther out; a bend of
+// radius rho turns by about 2 s / rho within s of its middle. A line whose
+// near angle is below MinimumTurnShare of its far angle is a bend.
 #ifndef dgSharpFeaturesCreases_h
 #define dgSharpFeaturesCreases_h
 
@@ -41,6 +49,10 @@ struct CreaseTestSettings
   int MinimumSamples = 5;     // boundary edges with both extrapolations
   int MinimumFit = 12;        // faces per side fit
   double EdgeLength = 1;      // the mesh's mean edge length
+  // The voxel-scale turn (lengths from the line faces' centres; the slab
+  // along the line each sample takes).
+  double TurnNear = 2.5, TurnFarFrom = 4.5, TurnFar = 9.5, TurnSlab = 2.5;
+  double MinimumTurnShare = 0.5;
 };
 
 struct CreaseVerdict
@@ -50,17 +62,19 @@ struct CreaseVerdict
   double Jump = 0;     // median extrapolated jump (degrees; NaN without samples)
   double Allowance = 0; // what curvature and noise could explain (degrees)
   double Depth = 0;     // median corner depth (length; NaN without samples)
+  double TurnShare = 0; // median near angle over median far angle (NaN without samples)
   int Edges = 0;
 };
 
-/// group: per face, its smooth part (-1: none); centre, input, sides: per
-/// face, its centre, unit input normal and the stage's side normal so far;
+/// group: per face, its smooth part (-1: none); centre, area, input, sides:
+/// per face, its centre, area vector, unit input normal and the stage's side
+/// normal so far;
 /// cornerDepth: per face, how far inside
 /// the corner of its two nearest sides it lies (NaN when not measured).
 /// One verdict per pair of groups that share an edge, in (A, B) order.
 std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector<Vec3>& centre,
-  const std::vector<Vec3>& input, const std::vector<Vec3>& sides, const std::vector<int>& group,
-  const std::vector<double>& cornerDepth, const CreaseTestSettings& settings);
+  const std::vector<Vec3>& area, const std::vector<Vec3>& input, const std::vector<Vec3>& sides,
+  const std::vector<int>& group, const std::vector<double>& cornerDepth, const CreaseTestSettings& settings);
 
 } // namespace sharp
 } // namespace dg

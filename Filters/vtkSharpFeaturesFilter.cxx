@@ -107,6 +107,7 @@ int vtkSharpFeaturesFilter::Execute(vtkPolyData* input, vtkPolyData* output, vtk
   par.RegionEdgeAngle = this->RegionEdgeAngle;
   par.InputRadius = this->InputRadius;
   par.CornerDepth = this->CornerDepth;
+  par.MinimumTurnShare = this->MinimumTurnShare;
   par.FieldAlpha = this->FieldAlpha;
   std::string problem;
   if (!(par.FeatureThreshold > 0 && par.FeatureThreshold < 1))
@@ -139,6 +140,8 @@ int vtkSharpFeaturesFilter::Execute(vtkPolyData* input, vtkPolyData* output, vtk
     problem += " InputRadius must be in (0, 1000].";
   if (!(par.CornerDepth > 0))
     problem += " CornerDepth must be > 0.";
+  if (!(par.MinimumTurnShare >= 0 && par.MinimumTurnShare <= 1))
+    problem += " MinimumTurnShare must be in [0, 1].";
   if (!std::isfinite(par.FieldAlpha))
     problem += " FieldAlpha must be finite.";
   if (!problem.empty())
@@ -373,6 +376,7 @@ void vtkSharpFeaturesFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "InputNormalsName: " << (this->InputNormalsName.empty() ? "(automatic)" : this->InputNormalsName) << "\n";
   os << indent << "InputRadius: " << this->InputRadius << "\n";
   os << indent << "CornerDepth: " << this->CornerDepth << "\n";
+  os << indent << "MinimumTurnShare: " << this->MinimumTurnShare << "\n";
   os << indent << "FieldAlpha: " << this->FieldAlpha << "\n";
   os << indent << "NumberOfCreases: " << this->NumberOfCreases << "\n";
   os << indent << "NumberOfBends: " << this->NumberOfBends << "\n";

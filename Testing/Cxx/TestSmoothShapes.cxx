@@ -7,8 +7,8 @@
 // chained as the ParaView plugin chains them.
 //
 // Where the target is met the target is asserted; where it is not
-// (noisy 64^3 tori, ellipsoids and blobs, boxes with fillets of radius 6 at
-// k = 0.3, the absolute normal targets on clean fillets of radius 4 and 6,
+// (noisy 64^3 tori, ellipsoids and blobs, the mean error of noisy boxes with
+// fillets, the absolute normal targets on clean fillets of radius 4 and 6,
 // whose own II input misses them) the bound is the worst measured figure
 // with a margin, and the comment says so (docs/quality.md has the table).
 #include "dgFeatureMetrics.h"
@@ -84,16 +84,6 @@ TEST_P(SmoothShapes, NoInventedFeaturesNeverWorseThanTheInput)
     c.Mean = clean.InputMean + 0.5;
     c.P95 = clean.InputP95 + 0.5;
   }
-  // fillet6 at 128^3 keeps one false line (a boundary on a corner patch
-  // whose band reaches within 0.44 edge of the corner): measured 10.6 and
-  // 6.8 %, the bound 12 and 8 %.
-  if (name == "fillet6" && n == 128)
-  {
-    c.Features = 12;
-    c.Worse = 8;
-    c.Mean = 4.5;
-    c.P95 = 23;
-  }
   EXPECT_LE(clean.FeaturesPer1000, c.Features);
   EXPECT_LE(clean.WorseShare, c.Worse);
   EXPECT_LE(clean.Mean, c.Mean);
@@ -116,21 +106,18 @@ TEST_P(SmoothShapes, NoInventedFeaturesNeverWorseThanTheInput)
     }
     if (fillet)
     {
-      // Fillets at k = 0.3 (docs/quality.md): radius 10 at 128^3 meets the
-      // line and "worse" targets; radius 4-6, and radius 10 on the 64^3
-      // box, whose flat faces are only 4-9 voxels wide, do not. Bound: not worse than the
-      // program before this stage's crease test (the table:
-      // 34-71 per 1000, 11-21 %), measured up to 41.5 and 20 %.
-      b.Features = 45;
-      b.Worse = 22;
-      b.Ratio = 1.6;
+      // Fillets at k = 0.3 meet the line and "worse" targets (radius 4,
+      // below the 6 voxels under noise: 0.88-1.02 % worse at 64^3).
+      // The mean stays above 0.6 times the input's: measured 0.61-0.62
+      // (radius 10, 128^3), 0.64 (radius 6, 128^3), 0.66-0.68 (radius 10,
+      // 64^3), 0.76-0.78 (radius 6, 64^3), 0.68-0.90 (radius 4): the
+      // output field's one data weight smooths the flat faces and the tight
+      // fillets alike (docs/quality.md).
+      b.Ratio = name == "fillet4" ? 0.95 : 0.82;
+      if (name == "fillet4")
+        b.Worse = 1.5;
       if (name == "fillet10" && n == 128)
-      {
-        // Meets the line and "worse" targets; the mean ratio measured
-        // 0.61-0.62 against the target's 0.6.
-        b = Bounds();
         b.Ratio = 0.66;
-      }
     }
     EXPECT_LE(noisy.FeaturesPer1000, b.Features) << seed;
     EXPECT_LE(noisy.WorseShare, b.Worse) << seed;
