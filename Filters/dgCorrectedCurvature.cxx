@@ -116,6 +116,7 @@ bool ComputeCorrectedCurvatures(std::int64_t numberOfPoints, const double* point
   std::vector<std::int64_t>& around = surface.Around;
   start.assign(numberOfPoints + 1, 0);
   around.resize(connectivity.size());
+  surface.AroundCorner.resize(connectivity.size());
   for (std::int64_t id : connectivity)
     ++start[id + 1];
   for (std::int64_t p = 0; p < numberOfPoints; ++p)
@@ -124,7 +125,11 @@ bool ComputeCorrectedCurvatures(std::int64_t numberOfPoints, const double* point
     std::vector<std::int64_t> fill(start.begin(), start.end() - 1);
     for (std::int64_t f = 0; f < F; ++f)
       for (std::int64_t k = offsets[f]; k < offsets[f + 1]; ++k)
-        around[fill[connectivity[k]]++] = f;
+      {
+        const std::int64_t slot = fill[connectivity[k]]++;
+        around[slot] = f;
+        surface.AroundCorner[slot] = k;
+      }
   }
   const auto isGhost = [&](std::int64_t f) { return surface.IsGhost(f); };
 
@@ -221,31 +226,40 @@ bool ComputeCorrectedCurvatures(std::int64_t numberOfPoints, const double* point
   std::vector<char> keepRadius(adaptive ? F : 0, 0);
   vtkSMPTools::For(0, nCells, [&](std::int64_t begin, std::int64_t end) {
     Runs runs;
-    std::vector<Candidate> candidates;
+    Candidates candidates;
+    std::vector<std::int64_t> faces;
+    std::vector<double> radius, sums;
+    std::vector<char> border;
     double sum[QUANTITIES];
     for (std::int64_t c = begin; c < end; ++c)
     {
-      candidates.clear();
+      faces.clear();
       for (std::int64_t i = cells.CellStart[c]; i < cells.CellStart[c + 1]; ++i)
+        if (!isGhost(cells.Face[i]) || (adaptive && isRep[i]))
+          faces.push_back(i);
+      if (faces.empty())
+        continue;
+      const std::int64_t n = static_cast<std::int64_t>(faces.size());
+      cells.Gather(c, R, runs, candidates);
+      radius.assign(n, R);
+      sums.resize(SUMS * n);
+      border.resize(n);
+      cells.BallSums(faces.data(), radius.data(), n, candidates, sums.data(), border.data());
+      for (std::int64_t k = 0; k < n; ++k)
       {
-        const std::int64_t f = cells.Face[i];
-        if (isGhost(f) && !(adaptive && isRep[i]))
-          continue;
-        if (candidates.empty())
-          cells.Gather(c, R, runs, candidates);
-        const bool border = cells.BallSums(i, R, candidates, sum);
+        const std::int64_t i = faces[k], f = cells.Face[i];
+        std::copy(sums.begin() + SUMS * k, sums.begin() + SUMS * (k + 1), sum + M0);
         // A face that will be measured again needs only its k1, k2 here.
-        if (!isGhost(f) && CurvaturesFromSums(f, sum, !adaptive || border, result))
+        if (!isGhost(f) && CurvaturesFromSums(f, sum, !adaptive || border[k], result))
           result.BallRadius[f] = R;
         if (adaptive)
         {
           std::copy(sum + M0, sum + QUANTITIES, firstSums.begin() + SUMS * i);
-          keepRadius[i] = border ? 1 : 0;
+          keepRadius[i] = border[k];
         }
       }
     }
   });
-
   if (adaptive)
     ChooseBallRadii(cells, groups, firstSums, keepRadius, ghost, R, result);
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace dg
 {
@@ -44,7 +45,7 @@ void SortIntoCells(const std::vector<V3>& centre, const std::vector<CorrectedMea
         Pack(c[0], c[1], c[2]), f };
     }
   });
-  std::sort(order.begin(), order.end());
+  SortInParallel(order);
   cells.CellStart.clear();
   cells.BlockStart.clear();
   cells.CellOf.clear();
@@ -99,7 +100,7 @@ void FaceCells::NeighbourRuns(const std::array<std::int64_t, 3>& c, Runs& runs) 
       }
 }
 
-void FaceCells::Gather(std::int64_t c, double r, Runs& runs, std::vector<Candidate>& candidates) const
+void FaceCells::Gather(std::int64_t c, double r, Runs& runs, Candidates& candidates) const
 {
   const std::vector<double>&X = this->Q[CX], &Y = this->Q[CY], &Z = this->Q[CZ];
   V3 lo = this->Centre(this->CellStart[c]), hi = lo;
@@ -110,7 +111,8 @@ void FaceCells::Gather(std::int64_t c, double r, Runs& runs, std::vector<Candida
   }
   this->NeighbourRuns(this->CellOfPoint(lo), runs);
   const double rr = r + 0.5 * this->EdgeLength, rr2 = rr * rr;
-  candidates.clear();
+  std::vector<std::int64_t>& index = candidates.Index;
+  index.clear();
   for (const auto& run : runs)
     for (std::int64_t j = run.first; j < run.second; ++j)
     {
@@ -118,56 +120,99 @@ void FaceCells::Gather(std::int64_t c, double r, Runs& runs, std::vector<Candida
       const double ex = std::max({ lo.x() - x, 0.0, x - hi.x() });
       const double ey = std::max({ lo.y() - y, 0.0, y - hi.y() });
       const double ez = std::max({ lo.z() - z, 0.0, z - hi.z() });
-      if (ex * ex + ey * ey + ez * ez >= rr2)
-        continue;
-      Candidate cand;
-      cand.X = x;
-      cand.Y = y;
-      cand.Z = z;
-      for (int m = 0; m < SUMS; ++m)
-        cand.Q[m] = this->Q[M0 + m][j];
-      cand.Region = this->Region[j];
-      cand.Inner = this->Inner[j];
-      candidates.push_back(cand);
+      if (ex * ex + ey * ey + ez * ez < rr2)
+        index.push_back(j);
     }
+  const Eigen::Index n = static_cast<Eigen::Index>(index.size());
+  candidates.X.resize(n);
+  candidates.Y.resize(n);
+  candidates.Z.resize(n);
+  candidates.Region.resize(n);
+  candidates.InnerRegion.resize(n);
+  candidates.Q.resize(n, SUMS);
+  for (Eigen::Index k = 0; k < n; ++k)
+  {
+    const std::int64_t j = index[k];
+    candidates.X[k] = X[j];
+    candidates.Y[k] = Y[j];
+    candidates.Z[k] = Z[j];
+    candidates.Region[k] = this->Region[j];
+    candidates.InnerRegion[k] =
+      this->Inner[j] ? candidates.Region[k] : std::numeric_limits<double>::quiet_NaN();
+  }
+  for (int m = 0; m < SUMS; ++m)
+  {
+    const std::vector<double>& q = this->Q[M0 + m];
+    double* column = candidates.Q.col(m).data();
+    for (Eigen::Index k = 0; k < n; ++k)
+      column[k] = q[index[k]];
+  }
 }
 
-bool FaceCells::BallSums(
-  std::int64_t i, double r, const std::vector<Candidate>& candidates, double* sum) const
+namespace
+{
+// The weights of the candidates in the ball of radius r around (x, y, z)
+// whose `side` equals own (NaN never does): 1/2 + (r - d) / l clamped to 1,
+// 0 from r + l/2 on (the ball's ramp). Returns whether a candidate of
+// another side lies in the ball. Written with doubles only and no branch,
+// so that it vectorises.
+bool BallWeights(const Candidates& cand, const Eigen::ArrayXd& side, double own, double x,
+  double y, double z, double r, double l, Eigen::ArrayXd& d2, Eigen::ArrayXd& d, double* w)
+{
+  const Eigen::Index n = cand.Size();
+  const double rr = r + 0.5 * l, rr2 = rr * rr;
+  const double full = std::max(r - 0.5 * l, 0.0), full2 = full * full; // weight 1 within
+  d2 = (cand.X - x).square() + (cand.Y - y).square() + (cand.Z - z).square();
+  d = d2.sqrt();
+  const double* D2 = d2.data();
+  const double* D = d.data();
+  const double* S = side.data();
+  int other = 0;
+  for (Eigen::Index j = 0; j < n; ++j)
+  {
+    const bool in = D2[j] < rr2, mine = S[j] == own;
+    const double ramp = std::min(1.0, 0.5 + (r - D[j]) / l);
+    const double v = D2[j] <= full2 ? 1.0 : ramp;
+    w[j] = in && mine ? v : 0.0;
+    other |= (in && !mine) ? 1 : 0;
+  }
+  return other != 0;
+}
+} // namespace
+
+void FaceCells::BallSums(const std::int64_t* faces, const double* radius, std::int64_t n,
+  Candidates& cand, double* sums, char* border) const
 {
   // A face cut by the ball's sphere counts for the share of it inside,
   // estimated from its centre's distance d: 1/2 + (r - d) / l, clamped to
   // [0, 1] (exact for a square face of side l moving across a plane, and
   // the sphere is locally a plane for r >> l).
   const double l = this->EdgeLength;
-  const double x = this->Q[CX][i], y = this->Q[CY][i], z = this->Q[CZ][i];
-  const double rr = r + 0.5 * l, rr2 = rr * rr;
-  const double full = std::max(r - 0.5 * l, 0.0), full2 = full * full; // weight 1 within
-  const int own = this->Region[i];
-  std::fill(sum, sum + QUANTITIES, 0.0);
-  double* total = sum + M0;
-  bool border = false;
-  int pass = 0;
-  for (; pass < 2 && !(sum[M0] > 0); ++pass)
-    for (const Candidate& cand : candidates)
+  const Eigen::Index nc = cand.Size();
+  cand.W.resize(n, nc);
+  for (std::int64_t k = 0; k < n; ++k)
+  {
+    const std::int64_t i = faces[k];
+    border[k] = BallWeights(cand, cand.InnerRegion, this->Region[i], this->Q[CX][i],
+                  this->Q[CY][i], this->Q[CZ][i], radius[k], l, cand.D2, cand.D, cand.W.row(k).data())
+      ? 1
+      : 0;
+  }
+  cand.S.noalias() = cand.W * cand.Q;
+  for (std::int64_t k = 0; k < n; ++k)
+  {
+    if (!(cand.S(k, 0) > 0))
     {
-      const bool skip = cand.Region != own || (pass == 0 && !cand.Inner);
-      if (skip && border)
-        continue;
-      const double ex = cand.X - x, ey = cand.Y - y, ez = cand.Z - z;
-      const double d2 = ex * ex + ey * ey + ez * ez;
-      if (d2 >= rr2)
-        continue;
-      if (skip)
-      {
-        border = true;
-        continue;
-      }
-      const double w = d2 <= full2 ? 1.0 : std::min(1.0, 0.5 + (r - std::sqrt(d2)) / l);
-      for (int m = 0; m < SUMS; ++m)
-        total[m] += w * cand.Q[m];
+      // No interior face of the region in the ball: all of its faces.
+      const std::int64_t i = faces[k];
+      Eigen::RowVectorXd w(nc);
+      BallWeights(cand, cand.Region, this->Region[i], this->Q[CX][i], this->Q[CY][i],
+        this->Q[CZ][i], radius[k], l, cand.D2, cand.D, w.data());
+      cand.S.row(k) += w * cand.Q;
+      border[k] = 1;
     }
-  return border || pass == 2;
+    std::copy(cand.S.row(k).data(), cand.S.row(k).data() + SUMS, sums + SUMS * k);
+  }
 }
 
 bool CurvaturesFromSums(std::int64_t f, const double* sum, bool directions, CurvatureResult& result)

@@ -10,6 +10,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry> // cross products
 
+#include <vtkSMPTools.h>
+
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <unordered_map>
@@ -45,11 +48,59 @@ constexpr int SUMS = QUANTITIES - M0; // the quantities summed over a ball
 
 using Runs = std::vector<std::pair<std::int64_t, std::int64_t>>;
 
-// A face a cell's balls may hold, copied with what they read of it.
-struct Candidate
+/// std::sort on the threads: a chunk per thread sorted at once, then merged
+/// pairwise.
+/// The keys must be unique (a total order), so that the result does not
+/// depend on the number of threads.
+template <typename T>
+void SortInParallel(std::vector<T>& v)
 {
-  double X, Y, Z, Q[SUMS];
-  int Region, Inner;
+  const std::int64_t n = static_cast<std::int64_t>(v.size());
+  const std::int64_t chunks = std::max(1, vtkSMPTools::GetEstimatedNumberOfThreads());
+  if (n < 4096 || chunks == 1)
+  {
+    std::sort(v.begin(), v.end());
+    return;
+  }
+  std::vector<std::int64_t> bound(chunks + 1);
+  for (std::int64_t k = 0; k <= chunks; ++k)
+    bound[k] = n * k / chunks;
+  vtkSMPTools::For(0, chunks, 1, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t k = begin; k < end; ++k)
+      std::sort(v.begin() + bound[k], v.begin() + bound[k + 1]);
+  });
+  for (std::int64_t width = 1; width < chunks; width *= 2)
+  {
+    const std::int64_t merges = (chunks + 2 * width - 1) / (2 * width);
+    vtkSMPTools::For(0, merges, 1, [&](std::int64_t begin, std::int64_t end) {
+      for (std::int64_t m = begin; m < end; ++m)
+      {
+        const std::int64_t a = 2 * width * m, b = std::min(a + width, chunks),
+                           c = std::min(a + 2 * width, chunks);
+        if (b < c)
+          std::inplace_merge(v.begin() + bound[a], v.begin() + bound[b], v.begin() + bound[c]);
+      }
+    });
+  }
+}
+
+// The faces a cell's balls may hold, one array per quantity, the summed
+// quantities as the columns of a matrix: the sums of all of a cell's balls
+// are then one matrix product, weights (a row per ball) times quantities,
+// instead of a loop over the candidates per ball.
+struct Candidates
+{
+  // Positions; the region as a double, and the region of interior faces
+  // only (NaN for the others), so that the weights' loop is all doubles and
+  // vectorises.
+  Eigen::ArrayXd X, Y, Z, Region, InnerRegion;
+  Eigen::Matrix<double, Eigen::Dynamic, SUMS> Q;
+  // Scratch of BallSums.
+  std::vector<std::int64_t> Index;
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> W;
+  Eigen::Matrix<double, Eigen::Dynamic, SUMS, Eigen::RowMajor> S;
+  Eigen::ArrayXd D2, D;
+  Eigen::Index Size() const { return this->X.size(); }
 };
 
 // The faces sorted into cubic cells of side (R + l/2) / 2 and copied in that
@@ -81,15 +132,16 @@ struct FaceCells
   /// The faces cell c's balls of radius r <= R may hold: those of the 5 x 5
   /// x 5 cells around it whose centre lies within r + l/2 of the box of the
   /// cell's face centres, in the cells' order.
-  void Gather(std::int64_t c, double r, Runs& runs, std::vector<Candidate>& candidates) const;
-  /// The ball sums (sum[M0..NZ]) around the face at position i, radius r <=
-  /// R, over its cell's candidates: the interior faces of its region first,
-  /// all of its region's faces when the ball holds none (a strip narrower
-  /// than a face ring). Returns true when the ball is not a whole disc of
-  /// interior faces of the face's region: it reaches a face of another
-  /// region or a face along a crease, or it had to take all of its region's
-  /// faces.
-  bool BallSums(std::int64_t i, double r, const std::vector<Candidate>& candidates, double* sum) const;
+  void Gather(std::int64_t c, double r, Runs& runs, Candidates& candidates) const;
+  /// The ball sums around the faces at positions faces[0..n) of the cell
+  /// whose candidates these are, radius radius[k] <= R each, into sums (n
+  /// rows of SUMS, mu0 first): the interior faces of its region first, all
+  /// of its region's faces when the ball holds none (a strip narrower than
+  /// a face ring). border[k]: the ball is not a whole disc of interior faces
+  /// of the face's region: it reaches a face of another region or a face
+  /// along a crease, or it had to take all of its region's faces.
+  void BallSums(const std::int64_t* faces, const double* radius, std::int64_t n,
+    Candidates& candidates, double* sums, char* border) const;
 };
 
 /// Sorts the faces into cells (blocks: also index the blocks of 3 x 3 x 3

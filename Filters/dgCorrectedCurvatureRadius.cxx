@@ -279,7 +279,9 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
   };
   vtkSMPTools::For(0, nCells, [&](std::int64_t begin, std::int64_t end) {
     Runs runs;
-    std::vector<Candidate> candidates;
+    Candidates candidates;
+    bool gathered = false;
+    char border;
     std::vector<NearRep> nearGroups;
     std::vector<std::pair<std::int64_t, double>> weights;
     double sum[QUANTITIES];
@@ -310,7 +312,7 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
                   nearGroups.push_back({ x.x(), x.y(), x.z(), g, groupRegion[g] });
               }
           }
-      candidates.clear();
+      gathered = false;
       for (std::int64_t i = first; i < cells.CellStart[c + 1]; ++i)
       {
         const std::int64_t f = cells.Face[i];
@@ -346,9 +348,10 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
         r = std::min(maxRadius, std::max(minRadius, r));
         if (r < R)
         {
-          if (candidates.empty())
+          if (!gathered)
             cells.Gather(c, R, runs, candidates);
-          cells.BallSums(i, r, candidates, sum);
+          gathered = true;
+          cells.BallSums(&i, &r, 1, candidates, sum + M0, &border);
           if (CurvaturesFromSums(f, sum, true, result))
             result.BallRadius[f] = r;
           else

@@ -24,7 +24,9 @@ struct Surface
   const int* Region = nullptr;     // per face or null
   const unsigned char* Ghost = nullptr;
   const std::int64_t* FaceIds = nullptr;
-  std::vector<std::int64_t> Start, Around; // the faces around each point (CSR)
+  // The faces around each point (CSR), and the corners (positions in
+  // Connectivity) by which they hold it.
+  std::vector<std::int64_t> Start, Around, AroundCorner;
 
   std::int64_t Faces() const { return static_cast<std::int64_t>(this->Offsets->size()) - 1; }
   bool IsGhost(std::int64_t f) const { return this->Ghost && this->Ghost[f] != 0; }
