@@ -66,7 +66,8 @@ void SortIntoCells(const std::vector<V3>& centre, const std::vector<CorrectedMea
   cells.CellStart.push_back(F);
   cells.BlockStart.push_back(F);
   cells.Face.resize(F);
-  cells.Q.assign(QUANTITIES, std::vector<double>(F));
+  cells.Q.assign(M0, std::vector<double>(F));
+  cells.Sums.resize(static_cast<std::size_t>(SUMS) * F);
   cells.Region.assign(F, 0);
   cells.Inner.assign(F, 0);
   vtkSMPTools::For(0, F, [&](std::int64_t begin, std::int64_t end) {
@@ -78,26 +79,57 @@ void SortIntoCells(const std::vector<V3>& centre, const std::vector<CorrectedMea
         m.Mu2, m.MuXY[0], m.MuXY[4], m.MuXY[8], 0.5 * (m.MuXY[1] + m.MuXY[3]),
         0.5 * (m.MuXY[2] + m.MuXY[6]), 0.5 * (m.MuXY[5] + m.MuXY[7]), normals[3 * f],
         normals[3 * f + 1], normals[3 * f + 2] };
-      for (int k = 0; k < QUANTITIES; ++k)
+      for (int k = 0; k < M0; ++k)
         cells.Q[k][i] = values[k];
+      std::copy(values + M0, values + QUANTITIES, cells.Sums.begin() + SUMS * i);
       cells.Face[i] = f;
       cells.Region[i] = region ? region[f] : 0;
       cells.Inner[i] = interior[f];
     }
   });
+  const std::int64_t nCells = cells.Cells();
+  std::vector<std::vector<std::int64_t>> found(nCells);
+  vtkSMPTools::For(0, nCells, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t c = begin; c < end; ++c)
+    {
+      const auto cc = cells.CellOfPoint(cells.Centre(cells.CellStart[c]));
+      for (int dx = -2; dx <= 2; ++dx)
+        for (int dy = -2; dy <= 2; ++dy)
+          for (int dz = -2; dz <= 2; ++dz)
+          {
+            const auto it = cells.CellOf.find(Pack(cc[0] + dx, cc[1] + dy, cc[2] + dz));
+            if (it != cells.CellOf.end())
+            {
+              const bool adjacent = std::abs(dx) <= 1 && std::abs(dy) <= 1 && std::abs(dz) <= 1;
+              found[c].push_back(2 * it->second + (adjacent ? 1 : 0));
+            }
+          }
+    }
+  });
+  cells.NeighbourStart.assign(nCells + 1, 0);
+  for (std::int64_t c = 0; c < nCells; ++c)
+    cells.NeighbourStart[c + 1] = cells.NeighbourStart[c] + static_cast<std::int64_t>(found[c].size());
+  cells.Neighbour.resize(cells.NeighbourStart[nCells]);
+  cells.NeighbourAdjacent.resize(cells.NeighbourStart[nCells]);
+  vtkSMPTools::For(0, nCells, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t c = begin; c < end; ++c)
+    {
+      std::int64_t k = cells.NeighbourStart[c];
+      for (const std::int64_t v : found[c])
+      {
+        cells.Neighbour[k] = v / 2;
+        cells.NeighbourAdjacent[k++] = static_cast<char>(v % 2);
+      }
+      std::vector<std::int64_t>().swap(found[c]);
+    }
+  });
 }
 
-void FaceCells::NeighbourRuns(const std::array<std::int64_t, 3>& c, Runs& runs) const
+void FaceCells::NeighbourRuns(std::int64_t c, Runs& runs) const
 {
   runs.clear();
-  for (int dx = -2; dx <= 2; ++dx)
-    for (int dy = -2; dy <= 2; ++dy)
-      for (int dz = -2; dz <= 2; ++dz)
-      {
-        const auto it = this->CellOf.find(Pack(c[0] + dx, c[1] + dy, c[2] + dz));
-        if (it != this->CellOf.end())
-          runs.emplace_back(this->CellStart[it->second], this->CellStart[it->second + 1]);
-      }
+  for (std::int64_t k = this->NeighbourStart[c]; k < this->NeighbourStart[c + 1]; ++k)
+    runs.emplace_back(this->CellStart[this->Neighbour[k]], this->CellStart[this->Neighbour[k] + 1]);
 }
 
 void FaceCells::Gather(std::int64_t c, double r, Runs& runs, Candidates& candidates) const
@@ -109,7 +141,7 @@ void FaceCells::Gather(std::int64_t c, double r, Runs& runs, Candidates& candida
     lo = lo.cwiseMin(this->Centre(i));
     hi = hi.cwiseMax(this->Centre(i));
   }
-  this->NeighbourRuns(this->CellOfPoint(lo), runs);
+  this->NeighbourRuns(c, runs);
   const double rr = r + 0.5 * this->EdgeLength, rr2 = rr * rr;
   std::vector<std::int64_t>& index = candidates.Index;
   index.clear();
@@ -140,13 +172,9 @@ void FaceCells::Gather(std::int64_t c, double r, Runs& runs, Candidates& candida
     candidates.InnerRegion[k] =
       this->Inner[j] ? candidates.Region[k] : std::numeric_limits<double>::quiet_NaN();
   }
-  for (int m = 0; m < SUMS; ++m)
-  {
-    const std::vector<double>& q = this->Q[M0 + m];
-    double* column = candidates.Q.col(m).data();
-    for (Eigen::Index k = 0; k < n; ++k)
-      column[k] = q[index[k]];
-  }
+  for (Eigen::Index k = 0; k < n; ++k)
+    std::copy(this->Sums.begin() + SUMS * index[k], this->Sums.begin() + SUMS * (index[k] + 1),
+      candidates.Q.row(k).data());
 }
 
 namespace

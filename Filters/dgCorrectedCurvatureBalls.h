@@ -94,7 +94,7 @@ struct Candidates
   // only (NaN for the others), so that the weights' loop is all doubles and
   // vectorises.
   Eigen::ArrayXd X, Y, Z, Region, InnerRegion;
-  Eigen::Matrix<double, Eigen::Dynamic, SUMS> Q;
+  Eigen::Matrix<double, Eigen::Dynamic, SUMS, Eigen::RowMajor> Q;
   // Scratch of BallSums.
   std::vector<std::int64_t> Index;
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> W;
@@ -117,7 +117,13 @@ struct FaceCells
   std::vector<std::int64_t> Face; // the face at each position
   std::vector<std::int64_t> CellStart, BlockStart; // positions, one past the last at the end
   std::unordered_map<std::int64_t, std::int64_t> CellOf, BlockOf; // by Pack key
-  std::vector<std::vector<double>> Q; // QUANTITIES arrays, in cell order
+  // The cells of the 5 x 5 x 5 around each cell that hold faces (CSR), in
+  // the order of their offsets (dx, dy, dz), and whether they are among the
+  // 3 x 3 x 3: looked up once, as every pass reads them.
+  std::vector<std::int64_t> NeighbourStart, Neighbour;
+  std::vector<char> NeighbourAdjacent;
+  std::vector<std::vector<double>> Q; // the centres (CX, CY, CZ), an array each, in cell order
+  std::vector<double> Sums; // SUMS per position: what a ball sums, one face's contiguous
   std::vector<int> Region;            // per position (0 without regions)
   std::vector<char> Inner;            // per position: all corners inside its region
 
@@ -127,8 +133,8 @@ struct FaceCells
   std::array<std::int64_t, 3> CellOfPoint(const V3& c) const;
   static std::int64_t BlockOfCell(std::int64_t v) { return v >= 0 ? v / 3 : -((2 - v) / 3); }
 
-  /// The runs of faces in the 5 x 5 x 5 cells around a cell.
-  void NeighbourRuns(const std::array<std::int64_t, 3>& c, Runs& runs) const;
+  /// The runs of faces in the 5 x 5 x 5 cells around cell c.
+  void NeighbourRuns(std::int64_t c, Runs& runs) const;
   /// The faces cell c's balls of radius r <= R may hold: those of the 5 x 5
   /// x 5 cells around it whose centre lies within r + l/2 of the box of the
   /// cell's face centres, in the cells' order.

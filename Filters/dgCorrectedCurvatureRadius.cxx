@@ -52,7 +52,7 @@ void GroupFaces(const FaceCells& cells, const std::int64_t* faceIds, FaceGroups&
       if (cells.Inner[i])
       {
         for (int m = 0; m < SUMS; ++m)
-          groups.Sums[SUMS * g + m] += cells.Q[M0 + m][i];
+          groups.Sums[SUMS * g + m] += cells.Sums[SUMS * i + m];
         groups.Centre[g] += cells.Centre(i);
       }
     }
@@ -100,8 +100,10 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
   const double soft = side, ringReach = maxRadius + 0.5 * soft;
 
   // Rings: for each representative, its cumulative sums C_k over the balls
-  // of L[k], from the cells' sums of their region's interior faces; a
-  // face's ball of r > R is its own ball of R plus C(r) - C_0 of the
+  // of L[k], from the cells' sums of their region's interior faces, all
+  // radii in one pass over the groups near it (each group adds to the ring
+  // where its ramp starts, and the rings are summed up after); a face's
+  // ball of r > R is its own ball of R plus C(r) - C_0 of the
   // representatives near it, blended.
   std::vector<double> ring(static_cast<std::size_t>(nGroups) * K * SUMS, 0.0);
   std::vector<double> repH(static_cast<std::size_t>(nGroups) * 4, 0.0); // H at R, 1.5R, 2R, 3R
@@ -165,6 +167,7 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
         if (!(s0[0] > 0))
           continue;
         double* s = &ring[static_cast<std::size_t>(g) * K * SUMS];
+        double acc[K * SUMS] = {}; // local: no aliasing with the candidates
         const V3 x = cells.Centre(i);
         for (const GroupCandidate& cand : near)
         {
@@ -181,7 +184,7 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
             const double w = std::min(1.0, std::max(0.0, 0.5 + (L[k] - d) / soft));
             if (w > before)
             {
-              double* sk = s + k * SUMS;
+              double* sk = acc + k * SUMS;
               for (int m = 0; m < SUMS; ++m)
                 sk[m] += (w - before) * cand.Q[m];
               before = w;
@@ -190,7 +193,8 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
         }
         for (int k = 1; k < K; ++k)
           for (int m = 0; m < SUMS; ++m)
-            s[k * SUMS + m] += s[(k - 1) * SUMS + m];
+            acc[k * SUMS + m] += acc[(k - 1) * SUMS + m];
+        std::copy(acc, acc + K * SUMS, s);
         bool valid = true;
         const int at[4] = { 0, K15, K2, K3 };
         for (int n = 0; n < 4 && valid; ++n)
@@ -223,7 +227,6 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
   vtkSMPTools::For(0, nCells, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t c = begin; c < end; ++c)
     {
-      const auto cc = cells.CellOfPoint(cells.Centre(cells.CellStart[c]));
       double e2 = 0, d2 = 0, d3 = 0;
       int n = 0;
       bool any = false;
@@ -237,25 +240,22 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
           continue;
         e2 = d2 = d3 = 0;
         n = 0;
-        for (int dx = -1; dx <= 1; ++dx)
-          for (int dy = -1; dy <= 1; ++dy)
-            for (int dz = -1; dz <= 1; ++dz)
+        for (std::int64_t k = cells.NeighbourStart[c]; k < cells.NeighbourStart[c + 1]; ++k)
+        {
+          if (!cells.NeighbourAdjacent[k])
+            continue;
+          const std::int64_t nc = cells.Neighbour[k];
+          for (std::int64_t h = groups.CellGroupStart[nc]; h < groups.CellGroupStart[nc + 1]; ++h)
+            if (groupRegion[h] == groupRegion[g] && repValid[h] && !keepRadius[groupRep[h]])
             {
-              const auto it = cells.CellOf.find(Pack(cc[0] + dx, cc[1] + dy, cc[2] + dz));
-              if (it == cells.CellOf.end())
-                continue;
-              for (std::int64_t h = groups.CellGroupStart[it->second];
-                   h < groups.CellGroupStart[it->second + 1]; ++h)
-                if (groupRegion[h] == groupRegion[g] && repValid[h] && !keepRadius[groupRep[h]])
-                {
-                  const double* H = &repH[4 * h];
-                  const double E = H[0] - 12.0 / 7.0 * H[1] + 5.0 / 7.0 * H[2];
-                  e2 += E * E;
-                  d2 += H[2] - H[0];
-                  d3 += H[3] - H[0];
-                  ++n;
-                }
+              const double* H = &repH[4 * h];
+              const double E = H[0] - 12.0 / 7.0 * H[1] + 5.0 / 7.0 * H[2];
+              e2 += E * E;
+              d2 += H[2] - H[0];
+              d3 += H[3] - H[0];
+              ++n;
             }
+        }
         const double noise2 = e2 / n / varE;
         d2 /= n;
         d3 /= n;
@@ -298,20 +298,16 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
       const auto cc = cells.CellOfPoint(cells.Centre(first));
       const V3 middle((cc[0] + 0.5) * side, (cc[1] + 0.5) * side, (cc[2] + 0.5) * side);
       nearGroups.clear();
-      for (int dx = -2; dx <= 2; ++dx)
-        for (int dy = -2; dy <= 2; ++dy)
-          for (int dz = -2; dz <= 2; ++dz)
-          {
-            const auto it = cells.CellOf.find(Pack(cc[0] + dx, cc[1] + dy, cc[2] + dz));
-            if (it != cells.CellOf.end())
-              for (std::int64_t g = groups.CellGroupStart[it->second];
-                   g < groups.CellGroupStart[it->second + 1]; ++g)
-              {
-                const V3 x = cells.Centre(groupRep[g]);
-                if (repRadius[g] > 0 && (x - middle).squaredNorm() < cellReach * cellReach)
-                  nearGroups.push_back({ x.x(), x.y(), x.z(), g, groupRegion[g] });
-              }
-          }
+      for (std::int64_t k = cells.NeighbourStart[c]; k < cells.NeighbourStart[c + 1]; ++k)
+      {
+        const std::int64_t nc = cells.Neighbour[k];
+        for (std::int64_t g = groups.CellGroupStart[nc]; g < groups.CellGroupStart[nc + 1]; ++g)
+        {
+          const V3 x = cells.Centre(groupRep[g]);
+          if (repRadius[g] > 0 && (x - middle).squaredNorm() < cellReach * cellReach)
+            nearGroups.push_back({ x.x(), x.y(), x.z(), g, groupRegion[g] });
+        }
+      }
       gathered = false;
       for (std::int64_t i = first; i < cells.CellStart[c + 1]; ++i)
       {
