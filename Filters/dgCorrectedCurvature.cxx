@@ -173,17 +173,19 @@ bool ComputeCorrectedCurvatures(std::int64_t numberOfPoints, const double* point
   // measures them, from those faces).
   std::vector<char> interior(F, 1);
   if (region)
-    for (std::int64_t f = 0; f < F; ++f)
-      for (std::int64_t k = offsets[f]; k < offsets[f + 1] && interior[f]; ++k)
-      {
-        const std::int64_t p = connectivity[k];
-        for (std::int64_t j = start[p]; j < start[p + 1]; ++j)
-          if (!surface.SameSide(f, around[j]))
-          {
-            interior[f] = 0;
-            break;
-          }
-      }
+    vtkSMPTools::For(0, F, [&](std::int64_t begin, std::int64_t end) {
+      for (std::int64_t f = begin; f < end; ++f)
+        for (std::int64_t k = offsets[f]; k < offsets[f + 1] && interior[f]; ++k)
+        {
+          const std::int64_t p = connectivity[k];
+          for (std::int64_t j = start[p]; j < start[p + 1]; ++j)
+            if (!surface.SameSide(f, around[j]))
+            {
+              interior[f] = 0;
+              break;
+            }
+        }
+    });
 
   std::vector<Crease> creases;
   const double meanEdge = WholeSurfaceFigures(surface, centre, measures, result, creases);
