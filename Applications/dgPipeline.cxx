@@ -161,6 +161,7 @@ void Pipeline::Build(vtkImageData* image, vtkAlgorithmOutput* source, const Pipe
     // Reads the active normals of the stage before (the final field).
     this->Curvature->SetInputConnection(this->Normals()->GetOutputPort(0));
     this->Curvature->SetRadius(s.CurvatureRadius);
+    this->Curvature->SetAdaptiveRadius(!s.CurvatureFixedRadius);
     this->Stages.push_back({ "corrected curvature", this->Curvature });
   }
 }

@@ -74,9 +74,11 @@ struct PipelineSettings
   bool SecondPass = false;
   // Corrected curvature measures of the final normals, per side of the
   // sharp stage's creases (vtkCorrectedCurvatureFilter), ball radius in
-  // voxels.
+  // voxels: each face's own from that scale (AdaptiveRadius), or that one
+  // for every face (CurvatureFixedRadius).
   bool Curvature = false;
   double CurvatureRadius = 6;
+  bool CurvatureFixedRadius = false;
 };
 
 /// The settings' AT parameters on an AT filter (every AT the program runs).

@@ -27,6 +27,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <sstream>
 #include <vector>
 
 namespace dg
@@ -243,5 +244,30 @@ bool RenderCurvaturePicture(vtkPolyData* surface, vtkPolyData* creases, int widt
 
   window->Render();
   return render::SavePicture(window, pngPath, error);
+}
+
+std::string CurvatureBallText(
+  double radiusVoxels, bool adaptive, double usedRadius, vtkPolyData* surface)
+{
+  std::ostringstream text;
+  text.precision(3);
+  if (!adaptive)
+  {
+    text << "ball " << radiusVoxels << " voxels";
+    return text.str();
+  }
+  text << "ball radius per face from " << radiusVoxels << " voxels";
+  vtkDataArray* radius =
+    surface ? surface->GetCellData()->GetArray("CorrectedBallRadius") : nullptr;
+  std::vector<double> r;
+  for (vtkIdType c = 0; radius && c < radius->GetNumberOfTuples(); ++c)
+    if (radius->GetComponent(c, 0) > 0)
+      r.push_back(radius->GetComponent(c, 0) * radiusVoxels / usedRadius);
+  if (r.empty() || !(usedRadius > 0))
+    return text.str();
+  std::sort(r.begin(), r.end());
+  const auto at = [&](double p) { return r[static_cast<std::size_t>(p * (r.size() - 1))]; };
+  text << ", 10/50/90 % " << at(0.1) << " / " << at(0.5) << " / " << at(0.9);
+  return text.str();
 }
 } // namespace dg

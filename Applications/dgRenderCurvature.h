@@ -19,6 +19,14 @@ namespace dg
 /// set when it cannot.
 bool RenderCurvaturePicture(vtkPolyData* surface, vtkPolyData* creases, int width,
   const std::string& pngPath, std::string& error);
+
+/// The summary's words for the curvature's balls: "ball R voxels", or with
+/// a radius per face "ball radius per face from R voxels", followed, when
+/// surface (port 0, with CorrectedBallRadius) is given, by the radii's 10th,
+/// 50th and 90th percentiles over its faces, in voxels (usedRadius: R in
+/// world units, the filter's UsedRadius).
+std::string CurvatureBallText(
+  double radiusVoxels, bool adaptive, double usedRadius, vtkPolyData* surface);
 }
 
 #endif

@@ -493,7 +493,8 @@ int RunPieces(Options opt, dg::Processes& procs)
   if (opt.P.Curvature)
   {
     vtkCorrectedCurvatureFilter* cc = pipeline.Curvature;
-    std::cout << "  curvature (ball " << opt.P.CurvatureRadius << " voxels): area " << cc->GetArea()
+    std::cout << "  curvature (" << dg::CurvatureBallText(opt.P.CurvatureRadius, !opt.P.CurvatureFixedRadius,
+                                    cc->GetUsedRadius(), nullptr) << "): area " << cc->GetArea()
               << ", integral of H " << cc->GetIntegralMeanCurvature() << ", Euler characteristic "
               << cc->GetIntegralGaussianCurvature() / (2 * M_PI) << " by Gauss-Bonnet, "
               << cc->GetEulerCharacteristic() << " by V - E + F\n";

@@ -461,7 +461,8 @@ int main(int argc, char* argv[])
   {
     vtkCorrectedCurvatureFilter* cc = pipelinePtr->Curvature;
     const double area = cc->GetArea(), volume = cc->GetVolume();
-    std::cout << "  curvature (ball " << opt.P.CurvatureRadius << " voxels): area " << area;
+    std::cout << "  curvature (" << dg::CurvatureBallText(opt.P.CurvatureRadius, !opt.P.CurvatureFixedRadius,
+                                    cc->GetUsedRadius(), cc->GetOutput(0)) << "): area " << area;
     if (std::isfinite(volume) && volume != 0)
       std::cout << ", volume " << std::abs(volume) << ", specific surface area "
                 << area / std::abs(volume);

@@ -41,9 +41,20 @@ struct CorrectedMeasures
 /// (3 per corner, any length; the interpolation is linear).
 CorrectedMeasures PolygonMeasures(int corners, const double* x, const double* u);
 
+/// With the per-face radius, each face's ball radius lies in
+/// [kMinRadiusFactor, kMaxRadiusFactor] times CurvatureParameters::Radius.
+constexpr double kMinRadiusFactor = 2.0 / 3.0;
+constexpr double kMaxRadiusFactor = 3.0;
+
 struct CurvatureParameters
 {
   double Radius = 3.0; // ball radius, the positions' units
+  // A ball radius per face (docs/curvature-measures.md, "The ball radius per
+  // face"): Radius is the first pass's, and each face's radius is then
+  // chosen from the noise and the variation of the curvature measured
+  // around it, within [2/3, 3] Radius and below its smallest curvature
+  // radius. Off: every ball has radius Radius.
+  bool AdaptiveRadius = false;
   // The width of the ramp by which a face cut by the ball's sphere counts
   // (the positions' units); 0: the faces' mean edge length. Pieces of one
   // surface pass the whole surface's, so that they agree with one process.
@@ -58,6 +69,7 @@ struct CurvatureResult
   std::vector<double> K1, K2;   // k1 >= k2
   std::vector<double> D1, D2;   // 3 per face: unit principal directions
   std::vector<double> BallNormal; // 3 per face: the normalised mean of u over the ball
+  std::vector<double> BallRadius; // per face: the radius of its ball (0: no result)
   // Whole surface (each face once; per side where regions are given).
   double Area = 0;          // sum of mu0
   double TotalMean = 0;     // integral of H: faces' mu1 / 2, plus CreaseTotalMean per side
@@ -78,6 +90,12 @@ struct CurvatureResult
   std::vector<double> CreaseLength;      // 1 per edge
   double CreaseTotalMean = 0;            // sum of angle * length / 2
 };
+
+/// How far from a face the measures of its ball reach (a piece's ghost
+/// faces must cover this much around its own): the ball, its ramp, the
+/// ring of faces its faces' corner normals need, and with the per-face
+/// radius the largest ball of a representative face near it.
+double CurvatureReach(const CurvatureParameters& parameters, double edgeLength);
 
 /// points: 3 per point; polygons as offsets/connectivity (VTK's layout);
 /// normals: 3 per face, unit; region: one per face or null (one region).

@@ -293,18 +293,19 @@ int vtkCorrectedCurvatureFilter::RequestData(
   }
   this->UpdateProgress(0.05);
 
+  dg::CurvatureParameters par;
+  par.Radius = radius;
+  par.EdgeLength = meanEdge;
+  par.AdaptiveRadius = this->AdaptiveRadius;
   // Under pieces: the faces of the other pieces that this piece's balls and
-  // their corner normals reach (the ball, its ramp, a face ring).
-  if (controller && !dg::GatherCurvatureHalo(controller, radius + 3 * meanEdge, mesh, problem))
+  // their corner normals reach (the largest ball, its ramp, a face ring).
+  if (controller &&
+    !dg::GatherCurvatureHalo(controller, dg::CurvatureReach(par, meanEdge), mesh, problem))
   {
     if (rank == 0)
       vtkErrorMacro(<< problem);
     return 0;
   }
-
-  dg::CurvatureParameters par;
-  par.Radius = radius;
-  par.EdgeLength = meanEdge;
   dg::CurvatureResult res;
   const bool ok = dg::ComputeCorrectedCurvatures(static_cast<std::int64_t>(mesh.Points.size() / 3),
     mesh.Points.data(), mesh.Offsets, mesh.Connectivity, mesh.Normals.data(),
@@ -344,7 +345,7 @@ int vtkCorrectedCurvatureFilter::RequestData(
   const Out outs[] = { { "CorrectedMeanCurvature", 1, &res.Mean },
     { "CorrectedGaussianCurvature", 1, &res.Gaussian }, { "CorrectedK1", 1, &res.K1 },
     { "CorrectedK2", 1, &res.K2 }, { "CorrectedK1Direction", 3, &res.D1 },
-    { "CorrectedK2Direction", 3, &res.D2 } };
+    { "CorrectedK2Direction", 3, &res.D2 }, { "CorrectedBallRadius", 1, &res.BallRadius } };
   for (const Out& o : outs)
   {
     vtkDoubleArray* a = CellArray(o.Name, o.Components, nCells);
@@ -395,6 +396,7 @@ void vtkCorrectedCurvatureFilter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Radius: " << this->Radius << "\n";
+  os << indent << "AdaptiveRadius: " << (this->AdaptiveRadius ? "On" : "Off") << "\n";
   os << indent << "RadiusUnits: " << (this->RadiusUnits == VOXELS ? "Voxels" : "World") << "\n";
   os << indent << "PerSide: " << (this->PerSide ? "On" : "Off") << "\n";
   os << indent << "UsedRadius: " << this->UsedRadius << "\n";

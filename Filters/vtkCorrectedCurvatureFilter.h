@@ -29,7 +29,8 @@
  * "CorrectedMeanCurvature" (H, positive on a sphere with outward normals),
  * "CorrectedGaussianCurvature" (G), "CorrectedK1" >= "CorrectedK2" and
  * their unit directions "CorrectedK1Direction", "CorrectedK2Direction", in
- * inverse world units; and field data (one value each): "CorrectedArea",
+ * inverse world units, and "CorrectedBallRadius" (each face's ball radius,
+ * world units); and field data (one value each): "CorrectedArea",
  * "EnclosedVolume" (NaN when the surface is not closed),
  * "SpecificSurfaceArea" (area / volume), "IntegralMeanCurvature",
  * "IntegralGaussianCurvature", "GaussBonnetCharacteristic" (the integral of
@@ -78,12 +79,31 @@ public:
   ///@{
   /**
    * Ball radius (> 0, default 6), in RadiusUnits. Larger balls average
-   * more noise away and blur more where the curvature varies: 6 voxels
-   * gives the smallest worst error over spheres, a torus, an ellipsoid and
-   * DGtal's goursat surface, clean and noisy (docs/curvature-measures.md).
+   * more noise away and blur more where the curvature varies. With
+   * AdaptiveRadius (default) it is the first pass's ball and the scale of
+   * each face's own: within [2/3, 3] Radius. Without, every ball has this
+   * radius: 6 voxels gives the smallest worst error of one radius over
+   * spheres, a torus, an ellipsoid and DGtal's goursat surface, clean and
+   * noisy (docs/curvature-measures.md).
    */
   vtkSetMacro(Radius, double);
   vtkGetMacro(Radius, double);
+  ///@}
+
+  ///@{
+  /**
+   * A ball radius per face (default on): after a first pass with balls of
+   * Radius, each face's radius balances the noise of the measure (falling
+   * with the ball) against the bias of the curvature's variation (growing
+   * with it), both measured around the face, within [2/3, 3] Radius and at
+   * most its smallest curvature radius; large on flat or evenly curved
+   * parts, small where the curvature changes (docs/curvature-measures.md,
+   * "The ball radius per face"). The radius used is the cell array
+   * "CorrectedBallRadius". Off: every ball has radius Radius.
+   */
+  vtkSetMacro(AdaptiveRadius, bool);
+  vtkGetMacro(AdaptiveRadius, bool);
+  vtkBooleanMacro(AdaptiveRadius, bool);
   ///@}
 
   ///@{
@@ -133,6 +153,7 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   double Radius = 6.0;
+  bool AdaptiveRadius = true;
   int RadiusUnits = VOXELS;
   bool PerSide = true;
 

@@ -288,3 +288,114 @@ TEST(CorrectedCurvatureCore, SpheresWithTheProgramsNormals)
     }
   }
 }
+
+// The ball radius per face (AdaptiveRadius), with the true normals tilted
+// by a smooth noise so that the rule has something to weigh: every radius
+// in [2R/3, 3R]; on a torus, none beyond the tube's radius (the face's
+// smallest curvature radius) by more than the first pass's error; with two
+// regions, the faces whose ball of R reaches the other region keep R; and a
+// piece holding its own faces plus the faces within CurvatureReach of them
+// (as ghosts, with global ids) gives its faces exactly the whole surface's
+// radii and curvatures.
+TEST(CorrectedCurvatureCore, AdaptiveRadius)
+{
+  const double a = 24, b = 10, R = 6;
+  const int n = 80;
+  const V3 c(n / 2.0 + 0.2, n / 2.0 + 0.3, n / 2.0 + 0.1);
+  auto shape = dgtest::MakeTorus(c, a, b, 0, 0, 0);
+  const Mesh m = Surface(*shape, n);
+  std::vector<double> u = TrueNormals(*shape, m);
+  for (std::size_t f = 0; f < m.Centres.size(); ++f)
+  {
+    const V3 p = m.Centres[f];
+    V3 t(std::sin(0.7 * p.y() + 0.3 * p.z()), std::sin(0.9 * p.z() + 0.2 * p.x()),
+      std::sin(0.8 * p.x() + 0.4 * p.y()));
+    V3 v = V3(u[3 * f], u[3 * f + 1], u[3 * f + 2]) + 0.05 * t;
+    v.normalize();
+    for (int d = 0; d < 3; ++d)
+      u[3 * f + d] = v[d];
+  }
+  const std::int64_t F = static_cast<std::int64_t>(m.Centres.size());
+  const std::int64_t P = static_cast<std::int64_t>(m.Points.size() / 3);
+  dg::CurvatureParameters p;
+  p.Radius = R;
+  p.EdgeLength = 1;
+  p.AdaptiveRadius = true;
+  std::vector<std::int64_t> ids(F);
+  for (std::int64_t f = 0; f < F; ++f)
+    ids[f] = f;
+  dg::CurvatureResult whole;
+  std::string error;
+  ASSERT_TRUE(dg::ComputeCorrectedCurvatures(P, m.Points.data(), m.Offsets, m.Connectivity, u.data(),
+    nullptr, p, whole, &error, nullptr, ids.data()))
+    << error;
+  std::vector<double> radii(whole.BallRadius);
+  std::sort(radii.begin(), radii.end());
+  std::printf("torus, adaptive: radius min %.2f median %.2f max %.2f\n", radii.front(),
+    Median(radii), radii.back());
+  EXPECT_GE(radii.front(), 2 * R / 3 - 1e-12);
+  EXPECT_LE(radii.back(), 3 * R + 1e-12);
+  EXPECT_LE(radii.back(), 1.1 * b);
+  EXPECT_NE(radii.front(), radii.back());
+
+  // Two regions: the half-space x < c.x and the rest.
+  std::vector<int> region(F);
+  for (std::int64_t f = 0; f < F; ++f)
+    region[f] = m.Centres[f].x() < c.x() ? 0 : 1;
+  dg::CurvatureResult sides;
+  ASSERT_TRUE(dg::ComputeCorrectedCurvatures(P, m.Points.data(), m.Offsets, m.Connectivity, u.data(),
+    region.data(), p, sides, &error, nullptr, ids.data()))
+    << error;
+  int nearBorder = 0, kept = 0;
+  for (std::int64_t f = 0; f < F; ++f)
+    if (std::abs(m.Centres[f].x() - c.x()) < R - 1)
+    {
+      ++nearBorder;
+      kept += sides.BallRadius[f] == R ? 1 : 0;
+    }
+  EXPECT_GT(nearBorder, 0);
+  EXPECT_EQ(kept, nearBorder);
+
+  // A piece: the faces with y < c.y - 20, and as ghosts the other faces
+  // whose centre lies within CurvatureReach of the piece's box.
+  const double reach = dg::CurvatureReach(p, 1.0);
+  double top = -1e300;
+  for (std::int64_t f = 0; f < F; ++f)
+    if (m.Centres[f].y() < c.y() - 20)
+      top = std::max(top, m.Centres[f].y());
+  std::vector<std::int64_t> keep, offsets{ 0 }, conn, pieceIds;
+  std::vector<double> pu;
+  std::vector<unsigned char> ghost;
+  for (std::int64_t f = 0; f < F; ++f)
+  {
+    const bool own = m.Centres[f].y() < c.y() - 20;
+    if (!own && m.Centres[f].y() > top + reach)
+      continue;
+    keep.push_back(f);
+    ghost.push_back(own ? 0 : 1);
+    pieceIds.push_back(f);
+    for (std::int64_t k = m.Offsets[f]; k < m.Offsets[f + 1]; ++k)
+      conn.push_back(m.Connectivity[k]);
+    offsets.push_back(static_cast<std::int64_t>(conn.size()));
+    pu.insert(pu.end(), { u[3 * f], u[3 * f + 1], u[3 * f + 2] });
+  }
+  ASSERT_LT(keep.size(), static_cast<std::size_t>(F));
+  dg::CurvatureResult piece;
+  ASSERT_TRUE(dg::ComputeCorrectedCurvatures(P, m.Points.data(), offsets, conn, pu.data(), nullptr, p,
+    piece, &error, ghost.data(), pieceIds.data()))
+    << error;
+  double worst = 0, worstRadius = 0;
+  for (std::size_t k = 0; k < keep.size(); ++k)
+    if (!ghost[k])
+    {
+      worst = std::max({ worst, std::abs(piece.Mean[k] - whole.Mean[keep[k]]),
+        std::abs(piece.Gaussian[k] - whole.Gaussian[keep[k]]),
+        std::abs(piece.K1[k] - whole.K1[keep[k]]), std::abs(piece.K2[k] - whole.K2[keep[k]]) });
+      worstRadius = std::max(worstRadius, std::abs(piece.BallRadius[k] - whole.BallRadius[keep[k]]));
+    }
+  std::printf("piece of %zu faces (reach %.2f): curvatures within %.3g, radii within %.3g of the "
+              "whole's\n",
+    keep.size(), reach, worst, worstRadius);
+  EXPECT_LE(worst, 1e-12);
+  EXPECT_LE(worstRadius, 1e-12);
+}

@@ -469,6 +469,36 @@ def compare_creases(ref_surface, ref_creases, res_surface, res_creases, check, l
           % (label, worst, angle_limit))
 
 
+def compare_ball_radius(ref_surface, res_surface, check, label):
+    """Corrected Curvature of one region (pvbatch pipeline): every face's
+    ball radius is chosen per face from what the balls around it measure,
+    up to 3 Radius across the pieces' borders; each face's radius and
+    curvatures equal one process's."""
+    ref, res = Result(ref_surface, ref_surface, reference=True), Result(res_surface, res_surface)
+    radius = {"ref": array(ref.surface.GetCellData(), "CorrectedBallRadius"),
+              "res": array(res.surface.GetCellData(), "CorrectedBallRadius")}
+    if radius["res"] is not None and res.ghosts is not None and np.any(res.ghosts & 1):
+        radius["res"] = radius["res"][(res.ghosts & 1) == 0]
+    res.drop_ghosts(check, label)
+    ok = ref.cell_ids is not None and res.cell_ids is not None and radius["ref"] is not None and \
+        radius["res"] is not None and np.array_equal(np.sort(ref.cell_ids), np.sort(res.cell_ids))
+    check(ok, "%s: the same faces (%d) with CorrectedBallRadius" % (label, 0 if res.cell_ids is None else len(res.cell_ids)))
+    if not ok or not len(ref.cell_ids):
+        return
+    ir, it = np.argsort(ref.cell_ids), np.argsort(res.cell_ids)
+    worst = max(np.max(np.abs(ref.curvature[n][ir] - res.curvature[n][it])) if res.curvature[n] is not None
+                else np.inf for n in ref.curvature)
+    worst_radius = float(np.max(np.abs(radius["ref"][ir] - radius["res"][it])))
+    base = ref.surface.GetFieldData().GetArray("CurvatureRadius").GetValue(0)
+    chosen = radius["ref"] > 0
+    moved = float(np.mean(np.abs(radius["ref"][chosen] - base) > 1e-9 * base)) if chosen.any() else 0.0
+    check(moved > 0.5, "%s: %.0f %% of the faces have a radius of their own (%.3g to %.3g, Radius %g)"
+          % (label, 100 * moved, radius["ref"][chosen].min() if chosen.any() else 0,
+             radius["ref"].max(), base))
+    check(worst <= 1e-9 and worst_radius <= 1e-9,
+          "%s: radii and curvatures equal one process's (max difference %.3g, %.3g)" % (label, worst_radius, worst))
+
+
 def compare_sharp(ref_surface, ref_features, res_surface, res_features, check, label, angle_limit):
     """The sharp-features stage (the program's default output, or the
     plugin's Sharp Features): the same surfels, SharpNormals within

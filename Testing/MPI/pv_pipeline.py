@@ -8,9 +8,11 @@ SurfelDirection, so that every edge where the staircase turns is a crease
 and the creases cross the pieces' borders everywhere) on every rank's
 piece, written with ParaView's parallel writer as OUTPREFIX_surface.pvtp,
 OUTPREFIX_features.pvtp, OUTPREFIX_creases.pvtp, OUTPREFIX_mesh.pvtp and
-OUTPREFIX_meshcreases.pvtp, and Sharp Features after Ambrosio-Tortorelli
-as OUTPREFIX_sharp.pvtp and OUTPREFIX_sharplines.pvtp (pieces in folders
-of those names).
+OUTPREFIX_meshcreases.pvtp, Sharp Features after Ambrosio-Tortorelli
+as OUTPREFIX_sharp.pvtp and OUTPREFIX_sharplines.pvtp, and Corrected
+Curvature of the II normals as one region (PerSide off: each face's ball
+radius chosen per face, balls up to 3 Radius across the pieces' borders) as
+OUTPREFIX_wholecurvature.pvtp (pieces in folders of those names).
 
 DG_MPI_BAD_RANK=r gives rank r a bad II radius (-1): that rank reports the
 filter's error in one line and exits 1 at once, so that mpirun ends the
@@ -39,6 +41,10 @@ at = AmbrosioTortorelli(Input=ii, Alpha=0.05, Lambda=0.005, SolverTolerance=floa
 curvature = CorrectedCurvature(Input=at, Radius=5)
 curvature.Normals = ["CELLS", "IINormals"]
 curvature.Regions = ["CELLS", "SurfelDirection"]
+# One region: no crease stops a ball, so every face's radius is chosen from
+# the noise and variation measured around it (AdaptiveRadius, the default).
+whole = CorrectedCurvature(Input=at, Radius=5, PerSide=0)
+whole.Normals = ["CELLS", "IINormals"]
 # The mesh of the II normals (every process count gives them bit for bit),
 # the same regions: creases everywhere, across every piece border.
 mesh = PiecewiseSmoothMesh(Input=at, SolverTolerance=float(tolerance) / 100)
@@ -56,13 +62,15 @@ def fail(obj, event, message=None):
 
 
 sharp = SharpFeatures(Input=at)
-for proxy in (volume, surface, ii, at, curvature, mesh, sharp):
+for proxy in (volume, surface, ii, at, curvature, whole, mesh, sharp):
     proxy.GetClientSideObject().AddObserver(vtkCommand.ErrorEvent, fail)
 
 curvature.UpdatePipeline()
 SaveData(prefix + "_surface.pvtp", proxy=OutputPort(curvature, 0), CompressorType="LZ4", DataMode="Binary")
 SaveData(prefix + "_features.pvtp", proxy=OutputPort(at, 1), CompressorType="LZ4", DataMode="Binary")
 SaveData(prefix + "_creases.pvtp", proxy=OutputPort(curvature, 1), CompressorType="LZ4", DataMode="Binary")
+whole.UpdatePipeline()
+SaveData(prefix + "_wholecurvature.pvtp", proxy=OutputPort(whole, 0), CompressorType="LZ4", DataMode="Binary")
 sharp.UpdatePipeline()
 SaveData(prefix + "_sharp.pvtp", proxy=OutputPort(sharp, 0), CompressorType="LZ4", DataMode="Binary")
 SaveData(prefix + "_sharplines.pvtp", proxy=OutputPort(sharp, 1), CompressorType="LZ4", DataMode="Binary")

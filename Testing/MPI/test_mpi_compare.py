@@ -160,6 +160,9 @@ if TOOL == "pvbatch":
                      check, "np%d vs 1, Sharp Features" % N, 0.01)
     mc.compare_creases(ref_s, os.path.join(ref_dir, "r_creases.pvtp"), run_s,
                        os.path.join(run_dir, "r_creases.pvtp"), check, "np%d vs 1" % N)
+    mc.compare_ball_radius(ref_s.replace("r_surface", "r_wholecurvature"),
+                           run_s.replace("r_surface", "r_wholecurvature"), check,
+                           "np%d vs 1, Corrected Curvature of one region" % N)
     mc.compare_mesh(os.path.join(ref_dir, "r_mesh.pvtp"), os.path.join(ref_dir, "r_meshcreases.pvtp"),
                     os.path.join(run_dir, "r_mesh.pvtp"), os.path.join(run_dir, "r_meshcreases.pvtp"),
                     check, "np%d vs 1" % N, 1e-6)

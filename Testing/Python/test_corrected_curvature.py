@@ -52,9 +52,22 @@ curv = vtkCorrectedCurvatureFilter()
 curv.SetInputConnection(sharp.GetOutputPort())
 curv.Update()
 out = curv.GetOutput(0)
-check(curv.GetRadius() == 6 and curv.GetRadiusUnits() == curv.VOXELS and curv.GetPerSide(),
-      "defaults: ball 6 voxels, per side")
+check(curv.GetRadius() == 6 and curv.GetRadiusUnits() == curv.VOXELS and curv.GetPerSide() and
+      curv.GetAdaptiveRadius(), "defaults: ball 6 voxels, a radius per face, per side")
 check(abs(curv.GetUsedRadius() - 6 * h) < 1e-12, "the ball is 6 voxels of 0.5: %g" % curv.GetUsedRadius())
+# A radius per face: from 2/3 to 3 times the ball of 6 voxels (world units),
+# larger than 6 voxels on most of a clean ball.
+radius = out.GetCellData().GetArray("CorrectedBallRadius")
+radii = sorted(radius.GetValue(f) for f in range(radius.GetNumberOfTuples())) if radius else []
+check(radii and 4 * h - 1e-9 <= radii[0] and radii[-1] <= 18 * h + 1e-9 and radii[len(radii) // 2] > 6 * h,
+      "CorrectedBallRadius in [4, 18] voxels of 0.5, median %.2f" % (radii[len(radii) // 2] if radii else -1))
+fixed = vtkCorrectedCurvatureFilter()
+fixed.SetInputConnection(sharp.GetOutputPort())
+fixed.AdaptiveRadiusOff()
+fixed.Update()
+fr = fixed.GetOutput(0).GetCellData().GetArray("CorrectedBallRadius")
+check(fr is not None and all(abs(fr.GetValue(f) - 6 * h) < 1e-12 for f in range(fr.GetNumberOfTuples())),
+      "AdaptiveRadius off: every ball 6 voxels")
 H = out.GetCellData().GetArray("CorrectedMeanCurvature")
 check(H is not None and H.GetNumberOfTuples() == out.GetNumberOfCells(), "CorrectedMeanCurvature per face")
 R = r * h
@@ -105,6 +118,13 @@ if program:
     rd.Update()
     check(rd.GetOutput().GetCellData().GetArray("CorrectedMeanCurvature") is not None,
           "the surface file has CorrectedMeanCurvature")
+    radius = rd.GetOutput().GetCellData().GetArray("CorrectedBallRadius")
+    check(radius is not None and "ball radius per face from 6 voxels, 10/50/90 %" in p.stdout,
+          "the surface file has CorrectedBallRadius; the summary gives the radii")
+    p = subprocess.run([program, vti, "--curvature-fixed-radius", "--quiet", "--output-dir", tmp, "--no-png"],
+                       capture_output=True, text=True)
+    check(p.returncode == 0 and "curvature (ball 6 voxels)" in p.stdout,
+          "--curvature-fixed-radius: one ball of 6 voxels (%s)" % p.stderr.strip()[-200:])
     p = subprocess.run([program, vti, "--curvature-radius", "0", "--quiet", "--output-dir", tmp],
                        capture_output=True, text=True)
     check(p.returncode == 2 and "--curvature-radius" in p.stderr, "--curvature-radius 0 is refused")
