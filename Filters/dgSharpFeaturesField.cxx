@@ -93,7 +93,7 @@ void Convolve(const std::vector<std::int64_t>& ptr, const std::vector<std::int64
   const double reach = 2.5 * width, reach2 = reach * reach;
   const Gaussian gauss(width);
   vtkSMPThreadLocal<Search> local;
-  vtkSMPTools::For(0, T, 1, [&](std::int64_t t0, std::int64_t t1) {
+  vtkSMPTools::For(0, T, [&](std::int64_t t0, std::int64_t t1) {
     Search& s = local.Local();
     if (s.Stamp.empty())
       s.Stamp.assign(F, -1);
