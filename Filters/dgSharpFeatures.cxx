@@ -867,7 +867,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
     }
     const auto fieldStart = std::chrono::steady_clock::now();
     if (!SmoothFieldWithinSides(graph, crease, centre, data, width * meanEdge2, out))
-      return fail("the output field needs a positive width and fewer than 2^31 faces");
+      return fail("the output field needs a positive width");
     result.FieldSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - fieldStart).count();
   }

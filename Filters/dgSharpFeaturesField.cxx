@@ -16,7 +16,7 @@ namespace sharp
 namespace
 {
 
-// Faces grouped in cubes of a few widths: one search per cube (and per
+// Faces grouped in cubes one width wide: one search per cube (and per
 // part of it that creases separate) finds every face any of its faces can
 // reach, instead of one search per face (fandisk 256^3 at k = 0.3, width
 // 2.5: 10.3-11.2 s with a search per face, docs/sharp-features.md has the

@@ -13,7 +13,8 @@
 // direction-dependent error that a ball does not (docs/sharp-features.md).
 // The smoothing is twiced, u = K d + K (d - K d), which cancels the
 // leading bias of K on a curved field; faces whose data point more than
-// 90 degrees from the face's own (the other side of a thin part) are not
+// 90 degrees from the face's own (the other side of a thin part), or from
+// the mean of all where the face's own is the odd one out, are not
 // weighted.
 #ifndef dgSharpFeaturesField_h
 #define dgSharpFeaturesField_h
@@ -30,8 +31,7 @@ namespace sharp
 /// graph: the faces' edges; crease: per graph edge, nonzero where the field
 /// must not pass; centre and data: per face (data unit or zero); width in
 /// the centres' units. normals gets one unit vector per face (the data where
-/// the mean is zero). False when width is not positive or there are 2^31
-/// faces or more.
+/// the mean is zero). False when width is not positive.
 bool SmoothFieldWithinSides(const FaceGraph& graph, const std::vector<char>& crease,
   const std::vector<Vec3>& centre, const std::vector<Vec3>& data, double width,
   std::vector<Vec3>& normals);
