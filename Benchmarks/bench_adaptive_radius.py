@@ -17,15 +17,12 @@ sharp features; islands removed as the program does):
 --quick: the spheres only. Needs the build's Python package on PYTHONPATH
 and the program (DG_PROGRAM or build/bin/piecewise-normals)."""
 import os
-import subprocess
 import sys
 import tempfile
 
 import numpy as np
-from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-from vtkmodules.vtkCommonDataModel import vtkImageData
+from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkFiltersCore import vtkCellCenters
-from vtkmodules.vtkIOXML import vtkXMLImageDataWriter, vtkXMLPolyDataReader
 
 from digitalgeometry import vtkCorrectedCurvatureFilter
 
@@ -44,25 +41,7 @@ def grid(n):
 
 def surface(inside, noise, seed):
     """The program's surface (SharpNormals, FeatureRegion) of a 0/1 volume."""
-    n = inside.shape[0]
-    img = vtkImageData()
-    img.SetDimensions(n, n, n)
-    img.GetPointData().SetScalars(numpy_to_vtk(inside.ravel().astype(np.uint8), deep=1))
-    vti = os.path.join(TMP, "shape.vti")
-    w = vtkXMLImageDataWriter()
-    w.SetInputData(img)
-    w.SetFileName(vti)
-    w.Write()
-    cmd = [PROGRAM, vti, "--no-png", "--quiet", "--output-dir", TMP]
-    if noise:
-        cmd += ["--noise", str(noise), "--seed", str(seed)]
-    p = subprocess.run(cmd, capture_output=True, text=True)
-    if p.returncode != 0:
-        sys.exit(p.stderr)
-    r = vtkXMLPolyDataReader()
-    r.SetFileName(os.path.join(TMP, "shape_surface.vtp"))
-    r.Update()
-    return r.GetOutput()
+    return shapes.program_surface(inside, noise, seed, TMP)[0]
 
 
 def curvature(s, adaptive, whole=False):

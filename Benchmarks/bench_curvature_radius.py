@@ -80,6 +80,31 @@ SHAPES = [
 ]
 
 
+def program_surface(inside, noise, seed, tmp):
+    """The program's default output surface (SharpNormals, FeatureRegion) of
+    a cubic 0/1 volume, at noise k with that seed (k = 0: none), and the
+    program's summary."""
+    n = inside.shape[0]
+    img = vtkImageData()
+    img.SetDimensions(n, n, n)
+    img.GetPointData().SetScalars(numpy_to_vtk(inside.ravel().astype(np.uint8), deep=1))
+    vti = os.path.join(tmp, "shape.vti")
+    w = vtkXMLImageDataWriter()
+    w.SetInputData(img)
+    w.SetFileName(vti)
+    w.Write()
+    cmd = [PROGRAM, vti, "--no-png", "--quiet", "--output-dir", tmp]
+    if noise:
+        cmd += ["--noise", str(noise), "--seed", str(seed)]
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode != 0:
+        sys.exit(p.stderr)
+    r = vtkXMLPolyDataReader()
+    r.SetFileName(os.path.join(tmp, "shape_surface.vtp"))
+    r.Update()
+    return r.GetOutput(), p.stdout
+
+
 def main():
     balls = [2, 3, 4, 5, 6, 7, 8]
     if "--balls" in sys.argv:
@@ -93,24 +118,7 @@ def main():
             k = np.arange(n)
             z, y, x = np.meshgrid(k, k, k, indexing="ij")
             inside = (f(np.stack([x, y, z], -1) - centre) <= 0).astype(np.uint8)
-            img = vtkImageData()
-            img.SetDimensions(n, n, n)
-            img.GetPointData().SetScalars(numpy_to_vtk(inside.ravel(), deep=1))
-            vti = os.path.join(tmp, "shape.vti")
-            w = vtkXMLImageDataWriter()
-            w.SetInputData(img)
-            w.SetFileName(vti)
-            w.Write()
-            cmd = [PROGRAM, vti, "--no-png", "--quiet", "--output-dir", tmp]
-            if noise:
-                cmd += ["--noise", str(noise), "--seed", str(seed)]
-            p = subprocess.run(cmd, capture_output=True, text=True)
-            if p.returncode != 0:
-                sys.exit(p.stderr)
-            r = vtkXMLPolyDataReader()
-            r.SetFileName(os.path.join(tmp, "shape_surface.vtp"))
-            r.Update()
-            surface = r.GetOutput()
+            surface, summary = program_surface(inside, noise, seed, tmp)
             cc = vtkCellCenters()
             cc.SetInputData(surface)
             cc.Update()
@@ -127,7 +135,7 @@ def main():
                 e = H - truth
                 row.append("%.3f / %.3f" % (np.sqrt((e ** 2).mean() / (truth ** 2).mean()),
                                            np.abs(e).max() / np.abs(truth).max()))
-            lines = p.stdout.split(" feature edges")[0].rsplit(" ", 1)[-1]
+            lines = summary.split(" feature edges")[0].rsplit(" ", 1)[-1]
             print("%s, k %g (%s lines) | %s" % (name, noise, lines, " | ".join(row)), flush=True)
 
 
