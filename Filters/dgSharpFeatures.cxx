@@ -14,9 +14,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <numeric>
+#include <set>
 #include <tuple>
 #include <utility>
 
@@ -677,7 +679,8 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
   // continues before the side across a crease can reach it through it).
   // Merged bends make larger sides, whose fits and turns reach farther
   // from the lines left: those lines are tested again (at most
-  // CreaseRounds times, until no bend merges).
+  // CreaseRounds times, until no bend merges); a line between two groups
+  // that did not change keeps its verdict.
   {
     CreaseTestSettings cs;
     cs.Near = 0.75 * par.InputRadius * meanEdge2;
@@ -693,12 +696,16 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
     const auto creaseStart = std::chrono::steady_clock::now();
     constexpr int CreaseRounds = 3;
     std::vector<int> group(F, -1);
+    std::map<std::pair<int, int>, CreaseVerdict> known;
     for (int round = 0; round < CreaseRounds; ++round)
     {
       for (std::int64_t f = 0; f < F; ++f)
         group[f] = assigned[f] >= 0 ? uf.Find(assigned[f]) : -1;
       const std::vector<CreaseVerdict> verdicts =
-        TestCreases(graph, centre, areaVector, input, out, group, cornerDepth, cs);
+        TestCreases(graph, centre, areaVector, input, out, group, cornerDepth, cs, known);
+      known.clear();
+      for (const CreaseVerdict& c : verdicts)
+        known[{ c.A, c.B }] = c;
       for (auto& a : apart)
         a.clear();
       result.NumberOfCreases = 0;
@@ -718,6 +725,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       }
       std::sort(bends.begin(), bends.end());
       int merged = 0;
+      std::set<int> changed;
       for (const auto& b : bends)
       {
         const int ra = uf.Find(b.second.first), rb = uf.Find(b.second.second);
@@ -725,10 +733,14 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
         {
           ++result.NumberOfBends;
           ++merged;
+          changed.insert(ra);
+          changed.insert(rb);
         }
       }
       if (merged == 0)
         break;
+      for (auto k = known.begin(); k != known.end();)
+        k = changed.count(k->first.first) || changed.count(k->first.second) ? known.erase(k) : std::next(k);
     }
     result.CreaseTestSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - creaseStart).count();

@@ -158,7 +158,8 @@ TurnSums MeasureTurn(const std::vector<Vec3>& centre, const std::vector<Vec3>& a
 
 std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector<Vec3>& centre,
   const std::vector<Vec3>& area, const std::vector<Vec3>& input, const std::vector<Vec3>& sides,
-  const std::vector<int>& group, const std::vector<double>& cornerDepth, const CreaseTestSettings& settings)
+  const std::vector<int>& group, const std::vector<double>& cornerDepth, const CreaseTestSettings& settings,
+  const std::map<std::pair<int, int>, CreaseVerdict>& known)
 {
   const std::int64_t F = static_cast<std::int64_t>(group.size());
   struct Edge
@@ -186,8 +187,11 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
   std::vector<signed char> side(F, 0);
   std::vector<float> distance(F, -1.0f);
   std::vector<std::int64_t> reached;
-  std::vector<SideFit> fits(F);
-  std::vector<TurnSums> turns(F);
+  // A line's fits and turns, by the rank of its face in `seeds` (slot):
+  // arrays the size of the surface would be most of the test's time.
+  std::vector<int> slot(F, -1);
+  std::vector<SideFit> fits;
+  std::vector<TurnSums> turns;
   std::vector<char> turnSeed(F, 0);
   constexpr std::size_t TurnSamples = 16;
   vtkSMPThreadLocal<FitScratch> scratch;
@@ -205,6 +209,12 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
   const double tangentReach = 4 * settings.EdgeLength;
   for (const auto& line : lines)
   {
+    const auto was = known.find(line.first);
+    if (was != known.end())
+    {
+      verdicts.push_back(was->second);
+      continue;
+    }
     const int ga = line.first.first;
     reached.clear();
     for (const Edge& be : line.second)
@@ -217,6 +227,10 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
           reached.push_back(f);
         }
     const std::vector<std::int64_t> seeds(reached);
+    for (std::size_t i = 0; i < seeds.size(); ++i)
+      slot[seeds[i]] = static_cast<int>(i);
+    fits.assign(seeds.size(), SideFit());
+    turns.assign(seeds.size(), TurnSums());
     // The turn's medians need no more than about TurnSamples edges per
     // line: every stride-th edge's two faces measure it.
     if (turn)
@@ -270,12 +284,10 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
               s.Line.push_back(f);
             return limit;
           });
-        fits[f0] = static_cast<int>(s.Faces.size()) >= settings.MinimumFit
-          ? FitSide(s.Faces, centre, input, centre[f0])
-          : SideFit();
-        turns[f0] = measure
-          ? MeasureTurn(centre, area, centre[f0], s.Line, s.Turn, settings)
-          : TurnSums();
+        if (static_cast<int>(s.Faces.size()) >= settings.MinimumFit)
+          fits[i] = FitSide(s.Faces, centre, input, centre[f0]);
+        if (measure)
+          turns[i] = MeasureTurn(centre, area, centre[f0], s.Line, s.Turn, settings);
       }
     });
 
@@ -286,13 +298,13 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
     std::vector<double> jumps, rateA, rateB, residuals, depths, nearTurns, farTurns;
     for (const Edge& be : line.second)
     {
-      const TurnSums &ta = turns[be.A], &tb = turns[be.B];
+      const TurnSums &ta = turns[slot[be.A]], &tb = turns[slot[be.B]];
       if (ta.NearCount >= 3 && tb.NearCount >= 3 && ta.FarCount >= 3 && tb.FarCount >= 3)
       {
         nearTurns.push_back(Angle(ta.Near, tb.Near));
         farTurns.push_back(Angle(ta.Far, tb.Far));
       }
-      const SideFit &a = fits[be.A], &b = fits[be.B];
+      const SideFit &a = fits[slot[be.A]], &b = fits[slot[be.B]];
       if (!a.Valid || !b.Valid)
         continue;
       jumps.push_back(Angle(a.Normal, b.Normal));
@@ -301,10 +313,11 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
       rateA.push_back(a.Rate.Dot(j) * Degrees);
       rateB.push_back(-b.Rate.Dot(j) * Degrees);
     }
-    for (std::int64_t f : seeds)
+    for (std::size_t i = 0; i < seeds.size(); ++i)
     {
-      if (fits[f].Valid)
-        residuals.push_back(fits[f].Residual);
+      const std::int64_t f = seeds[i];
+      if (fits[i].Valid)
+        residuals.push_back(fits[i].Residual);
       if (std::isfinite(cornerDepth[f]))
         depths.push_back(cornerDepth[f]);
     }
@@ -340,6 +353,8 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
       distance[f] = -1.0f;
       turnSeed[f] = 0;
     }
+    for (std::int64_t f : seeds)
+      slot[f] = -1;
   }
   return verdicts;
 }

@@ -33,6 +33,8 @@
 
 #include "dgSharpFeaturesGraph.h"
 
+#include <map>
+#include <utility>
 #include <vector>
 
 namespace dg
@@ -71,10 +73,14 @@ struct CreaseVerdict
 /// normal so far;
 /// cornerDepth: per face, how far inside
 /// the corner of its two nearest sides it lies (NaN when not measured).
+/// known: verdicts that still hold, by (A, B): a verdict depends only on
+/// its two groups' faces, so a line between groups that have not changed
+/// since it was tested is not tested again.
 /// One verdict per pair of groups that share an edge, in (A, B) order.
 std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector<Vec3>& centre,
   const std::vector<Vec3>& area, const std::vector<Vec3>& input, const std::vector<Vec3>& sides,
-  const std::vector<int>& group, const std::vector<double>& cornerDepth, const CreaseTestSettings& settings);
+  const std::vector<int>& group, const std::vector<double>& cornerDepth, const CreaseTestSettings& settings,
+  const std::map<std::pair<int, int>, CreaseVerdict>& known);
 
 } // namespace sharp
 } // namespace dg
