@@ -695,6 +695,23 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
         }
       }
     }
+    // Curved sides up to a crease: AT's normals there are flatter than the
+    // surface (its smoothing shrinks curvature), and the input blends the
+    // two sides. A side that is a quadric to within the staircase gives its
+    // normal to its faces near a crease that lie on it, where that normal
+    // turns them by less than a feature angle (the two describe the same
+    // surface).
+    std::vector<RegionQuadric> sideQuadrics;
+    if (par.QuadricSides)
+    {
+      std::vector<char> nearCrease(result.NumberOfRegions, 0);
+      for (std::int64_t f = 0; f < F; ++f)
+        if (steps[f] >= 0 && result.Region[f] >= 0)
+          nearCrease[result.Region[f]] = 1;
+      sideQuadrics = FitQuadricSides(result.Region, result.NumberOfRegions, centre, out, nearCrease,
+        par.MinimumRegionSize, 3.0 * par.SearchDepth * meanEdge2, meanEdge2,
+        par.FitResidual * meanEdge2);
+    }
     std::vector<Vec3> data(F);
     for (std::int64_t f = 0; f < F; ++f)
     {
@@ -705,6 +722,13 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       // search (measured on organic volumes, whose bands cover more than
       // half the surface).
       data[f] = steps[f] >= 0 && AngleDegrees(out[f], input[f]) <= 60 ? out[f] : input[f];
+      const int r = result.Region[f];
+      if (steps[f] >= 0 && r >= 0 && !sideQuadrics.empty() && sideQuadrics[r].Valid &&
+        std::abs(sideQuadrics[r].Distance(centre[f])) <= meanEdge2 &&
+        AngleDegrees(sideQuadrics[r].Normal(centre[f]), data[f]) < par.MinimumFeatureAngle)
+      {
+        data[f] = sideQuadrics[r].Normal(centre[f]);
+      }
     }
     const auto fieldStart = std::chrono::steady_clock::now();
     if (!SmoothFieldWithinSides(graph, crease, centre, data, width * meanEdge2, out))

@@ -285,6 +285,32 @@ std::vector<RegionQuadric> FitRegionQuadrics(const std::vector<int>& region, int
   return quadrics;
 }
 
+std::vector<RegionQuadric> FitQuadricSides(const std::vector<int>& region, int regions,
+  const std::vector<Vec3>& centre, const std::vector<Vec3>& field, const std::vector<char>& wanted,
+  int minimumSize, double minimumExtent, double unit, double maxResidual)
+{
+  std::vector<char> skip(regions);
+  for (int r = 0; r < regions; ++r)
+    skip[r] = !wanted[r];
+  std::vector<RegionQuadric> quadrics =
+    FitRegionQuadrics(region, regions, centre, field, skip, minimumSize, minimumExtent, unit);
+  std::vector<double> sum2(regions, 0.0);
+  std::vector<std::int64_t> count(regions, 0);
+  for (std::size_t f = 0; f < region.size(); ++f)
+  {
+    const int r = region[f];
+    if (r >= 0 && quadrics[r].Valid)
+    {
+      const double d = quadrics[r].Distance(centre[f]);
+      sum2[r] += d * d;
+      ++count[r];
+    }
+  }
+  for (int r = 0; r < regions; ++r)
+    quadrics[r].Valid = quadrics[r].Valid && count[r] > 0 && std::sqrt(sum2[r] / count[r]) <= maxResidual;
+  return quadrics;
+}
+
 RegionQuadric FitQuadric(const std::vector<std::int64_t>& faces, const std::vector<Vec3>& centre,
   const std::vector<Vec3>& field, double unit)
 {

@@ -96,6 +96,13 @@ std::vector<RegionQuadric> FitRegionQuadrics(const std::vector<int>& region, int
   const std::vector<Vec3>& centre, const std::vector<Vec3>& field, const std::vector<char>& skip,
   int minimumSize, double minimumExtent, double unit);
 
+// The quadrics (as FitRegionQuadrics) of the regions with wanted[r] != 0,
+// kept Valid only where the RMS distance of the region's faces to it is at
+// most maxResidual: the region is that quadric to within the staircase.
+std::vector<RegionQuadric> FitQuadricSides(const std::vector<int>& region, int regions,
+  const std::vector<Vec3>& centre, const std::vector<Vec3>& field, const std::vector<char>& wanted,
+  int minimumSize, double minimumExtent, double unit, double maxResidual);
+
 // The same fit for one set of faces (at least 10), scaled by their own
 // extent.
 RegionQuadric FitQuadric(const std::vector<std::int64_t>& faces, const std::vector<Vec3>& centre,
