@@ -49,9 +49,10 @@
 // 6. Features: the edges between faces of two different (merged) regions.
 //    The line runs where the two sides' faces meet: one staircase line.
 // 7. The output field (dgSharpFeaturesField.h): a twiced Gaussian mean of
-//    the input normals (the side normals near a line) over the faces on the
-//    same side of every kept line, as wide as the noise the surface shows
-//    calls for (FieldWidth).
+//    the input normals (the side normals near a line; with QuadricSides,
+//    the normal of a side that is a quadric to within FitResidual) over
+//    the faces on the same side of every kept line, as wide as the noise
+//    the surface shows calls for (FieldWidth).
 //
 // Plain C++ on a polygon mesh in offsets/connectivity form (vtkCellArray's
 // layout), testable without a pipeline.
@@ -85,7 +86,8 @@ struct SharpFeatureParameters
   double ReferenceWeight = 0.2; // how fast a region's reference normal follows its faces
   double RegionEdgeAngle = 10.0; // degrees; a region does not grow across a larger jump
   double PlanarRegionAngle = 6.0; // degrees; regions whose normals turn less are planes (0: none)
-  bool QuadricSides = true;       // large curved regions decide with their whole-region quadric
+  bool QuadricSides = true;       // large curved regions decide with their whole-region quadric,
+                                  // and quadric sides give their normal near the lines
   double QuadricMergeFactor = 3.0; // a medium boundary merges when the smaller side lies on the
                                    // larger's quadric within this factor of its own RMS (0: never)
   double QuadricMergeDistance = 3.0; // edge lengths: ... and within this RMS distance

@@ -147,9 +147,10 @@ public:
   ///@{
   /**
    * A fit is used only when its RMS residual is below FitResidual edge
-   * lengths (>= 0, default 0.3; a noise-free digital plane: about 0.3):
-   * on noisy surfaces the positions are too rough and the mean normal is
-   * kept.
+   * lengths (>= 0, default 0.3; a noise-free turned digital plane:
+   * 0.16-0.25): on noisy surfaces the positions are too rough and the mean
+   * normal is kept. The same bound says when a side is a quadric
+   * (QuadricSides).
    */
   vtkSetMacro(FitResidual, double);
   vtkGetMacro(FitResidual, double);
@@ -228,8 +229,11 @@ public:
    * edge length of the region's faces near the band face; elsewhere, and
    * for smaller regions, the local plane bent by CurvedSides decides. On a
    * sphere or a cylinder the whole-region quadric is not tilted by the
-   * staircase and the noise that a few faces near the edge show. Default
-   * on.
+   * staircase and the noise that a few faces near the edge show. Once the
+   * lines are known, a side (as large) whose faces lie within FitResidual
+   * edge lengths (RMS) of its own quadric gives that quadric's normal to
+   * its faces near a line that lie on it, as the output field's data: AT's
+   * normals there are flatter than the surface. Default on.
    */
   vtkSetMacro(QuadricSides, bool);
   vtkGetMacro(QuadricSides, bool);
