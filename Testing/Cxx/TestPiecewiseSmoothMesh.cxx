@@ -316,8 +316,8 @@ TEST_P(MeshGroundTruth, DistanceNormalsVolumeBound)
     // normals follow the true planes up to the creases (before: -0.17 %):
     // the faces next to an edge dip inwards where the crease, a line of
     // digital vertices moved at most half a voxel, cannot reach the true
-    // edge (docs/mesh.md; -0.25 to -0.33 % on the benchmark's polyhedra at
-    // 64^3, -0.06 % at 128^3). The 0.2 % holds on the other shapes.
+    // edge (docs/mesh.md; -0.32 % on the benchmark's polyhedra at
+    // 64^3, -0.08 % at 128^3). The 0.2 % holds on the other shapes.
     EXPECT_LE(std::abs(f.Volume / f.TrueVolume - 1), c.Shape == "cube" ? 0.003 : 0.002);
     EXPECT_LE(f.FlippedArea, 0.002);
     // Far better than the staircase in every figure.
