@@ -36,6 +36,12 @@ double Angle(const Vec3& a, const Vec3& b)
   return std::acos(std::max(-1.0, std::min(1.0, c))) * Degrees;
 }
 
+// An edge between two groups' faces, A in the smaller group.
+struct LineEdge
+{
+  std::int64_t A, B;
+};
+
 struct FitScratch : BreadthScratch
 {
   std::vector<std::int64_t> Faces, Turn, Line;
@@ -154,6 +160,73 @@ TurnSums MeasureTurn(const std::vector<Vec3>& centre, const std::vector<Vec3>& a
   return out;
 }
 
+// The verdict on the line between groups a and b (edges, A on a's side)
+// from its seeds' fits and turns (by slot), the stage's side normals and the
+// band faces' corner depths (dgSharpFeaturesCreases.h says what makes a
+// crease).
+CreaseVerdict Decide(int a, int b, const std::vector<LineEdge>& edges,
+  const std::vector<std::int64_t>& seeds, const std::vector<int>& slot,
+  const std::vector<SideFit>& fits, const std::vector<TurnSums>& turns,
+  const std::vector<Vec3>& sides, const std::vector<double>& cornerDepth,
+  const CreaseTestSettings& settings)
+{
+  CreaseVerdict v;
+  v.A = a;
+  v.B = b;
+  v.Edges = static_cast<int>(edges.size());
+  std::vector<double> jumps, rateA, rateB, residuals, depths, nearTurns, farTurns;
+  for (const LineEdge& be : edges)
+  {
+    const TurnSums &ta = turns[slot[be.A]], &tb = turns[slot[be.B]];
+    if (ta.NearCount >= 3 && tb.NearCount >= 3 && ta.FarCount >= 3 && tb.FarCount >= 3)
+    {
+      nearTurns.push_back(Angle(ta.Near, tb.Near));
+      farTurns.push_back(Angle(ta.Far, tb.Far));
+    }
+    const SideFit &fa = fits[slot[be.A]], &fb = fits[slot[be.B]];
+    if (!fa.Valid || !fb.Valid)
+      continue;
+    jumps.push_back(Angle(fa.Normal, fb.Normal));
+    // How fast each side turns towards the other as it nears the line.
+    const Vec3 j = (fb.Normal.Unit() - fa.Normal.Unit()).Unit();
+    rateA.push_back(fa.Rate.Dot(j) * Degrees);
+    rateB.push_back(-fb.Rate.Dot(j) * Degrees);
+  }
+  for (std::size_t i = 0; i < seeds.size(); ++i)
+  {
+    const std::int64_t f = seeds[i];
+    if (fits[i].Valid)
+      residuals.push_back(fits[i].Residual);
+    if (std::isfinite(cornerDepth[f]))
+      depths.push_back(cornerDepth[f]);
+  }
+  v.Jump = Median(jumps);
+  v.Depth = Median(depths);
+  const double farTurn = Median(farTurns);
+  v.TurnShare = farTurn > 0 ? Median(nearTurns) / farTurn : std::numeric_limits<double>::quiet_NaN();
+  const double curvature = jumps.empty()
+    ? 0.0
+    : std::max(0.0, std::max(Median(rateA), Median(rateB))) * settings.Near;
+  v.Allowance = curvature + settings.NoiseFactor * (residuals.empty() ? 0.0 : Median(residuals));
+  // Two sides facing apart (the two faces of a slab thinner than AT's
+  // band, their normals 150-180 degrees apart) make no corner to cut.
+  std::vector<double> sideJumps;
+  for (const LineEdge& be : edges)
+    sideJumps.push_back(Angle(sides[be.A], sides[be.B]));
+  const double sideJump = Median(sideJumps);
+  const bool deep = static_cast<int>(depths.size()) >= settings.MinimumSamples &&
+    v.Depth > settings.CornerDepth && sideJump < 120;
+  // Sides too narrow to be fitted beyond the blur (a slab a few voxels
+  // thick): a crease when the stage's own side normals jump by a sure
+  // angle across the line and its voxels reach the corner.
+  const bool fitted = static_cast<int>(jumps.size()) >= settings.MinimumSamples;
+  // A slab's two faces (sides facing apart) make no turn to measure.
+  const bool turning = static_cast<int>(nearTurns.size()) >= settings.MinimumSamples &&
+    sideJump < 120 && v.TurnShare < settings.MinimumTurnShare;
+  v.Crease = fitted && !deep && !turning && v.Jump >= settings.MinimumAngle + v.Allowance;
+  return v;
+}
+
 } // namespace
 
 std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector<Vec3>& centre,
@@ -162,11 +235,7 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
   const std::map<std::pair<int, int>, CreaseVerdict>& known)
 {
   const std::int64_t F = static_cast<std::int64_t>(group.size());
-  struct Edge
-  {
-    std::int64_t A, B; // A's group < B's group
-  };
-  std::map<std::pair<int, int>, std::vector<Edge>> lines;
+  std::map<std::pair<int, int>, std::vector<LineEdge>> lines;
   const std::int64_t E = static_cast<std::int64_t>(graph.Edges.size());
   for (std::int64_t e = 0; e < E; ++e)
     for (std::int64_t a = graph.EdgeFacePtr[e]; a < graph.EdgeFacePtr[e + 1]; ++a)
@@ -217,7 +286,7 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
     }
     const int ga = line.first.first;
     reached.clear();
-    for (const Edge& be : line.second)
+    for (const LineEdge& be : line.second)
       for (std::int64_t f : { be.A, be.B })
         if (seedOf[f] < 0)
         {
@@ -291,61 +360,8 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
       }
     });
 
-    CreaseVerdict v;
-    v.A = line.first.first;
-    v.B = line.first.second;
-    v.Edges = static_cast<int>(line.second.size());
-    std::vector<double> jumps, rateA, rateB, residuals, depths, nearTurns, farTurns;
-    for (const Edge& be : line.second)
-    {
-      const TurnSums &ta = turns[slot[be.A]], &tb = turns[slot[be.B]];
-      if (ta.NearCount >= 3 && tb.NearCount >= 3 && ta.FarCount >= 3 && tb.FarCount >= 3)
-      {
-        nearTurns.push_back(Angle(ta.Near, tb.Near));
-        farTurns.push_back(Angle(ta.Far, tb.Far));
-      }
-      const SideFit &a = fits[slot[be.A]], &b = fits[slot[be.B]];
-      if (!a.Valid || !b.Valid)
-        continue;
-      jumps.push_back(Angle(a.Normal, b.Normal));
-      // How fast each side turns towards the other as it nears the line.
-      const Vec3 j = (b.Normal.Unit() - a.Normal.Unit()).Unit();
-      rateA.push_back(a.Rate.Dot(j) * Degrees);
-      rateB.push_back(-b.Rate.Dot(j) * Degrees);
-    }
-    for (std::size_t i = 0; i < seeds.size(); ++i)
-    {
-      const std::int64_t f = seeds[i];
-      if (fits[i].Valid)
-        residuals.push_back(fits[i].Residual);
-      if (std::isfinite(cornerDepth[f]))
-        depths.push_back(cornerDepth[f]);
-    }
-    v.Jump = Median(jumps);
-    v.Depth = Median(depths);
-    const double farTurn = Median(farTurns);
-    v.TurnShare = farTurn > 0 ? Median(nearTurns) / farTurn : std::numeric_limits<double>::quiet_NaN();
-    const double curvature = jumps.empty()
-      ? 0.0
-      : std::max(0.0, std::max(Median(rateA), Median(rateB))) * settings.Near;
-    v.Allowance = curvature + settings.NoiseFactor * (residuals.empty() ? 0.0 : Median(residuals));
-    // Two sides facing apart (the two faces of a slab thinner than AT's
-    // band, their normals 150-180 degrees apart) make no corner to cut.
-    std::vector<double> sideJumps;
-    for (const Edge& be : line.second)
-      sideJumps.push_back(Angle(sides[be.A], sides[be.B]));
-    const double sideJump = Median(sideJumps);
-    const bool deep = static_cast<int>(depths.size()) >= settings.MinimumSamples &&
-      v.Depth > settings.CornerDepth && sideJump < 120;
-    // Sides too narrow to be fitted beyond the blur (a slab a few voxels
-    // thick): a crease when the stage's own side normals jump by a sure
-    // angle across the line and its voxels reach the corner.
-    const bool fitted = static_cast<int>(jumps.size()) >= settings.MinimumSamples;
-    // A slab's two faces (sides facing apart) make no turn to measure.
-    const bool turning = static_cast<int>(nearTurns.size()) >= settings.MinimumSamples &&
-      sideJump < 120 && v.TurnShare < settings.MinimumTurnShare;
-    v.Crease = fitted && !deep && !turning && v.Jump >= settings.MinimumAngle + v.Allowance;
-    verdicts.push_back(v);
+    verdicts.push_back(Decide(line.first.first, line.first.second, line.second, seeds, slot, fits,
+      turns, sides, cornerDepth, settings));
     for (std::int64_t f : reached)
     {
       seedOf[f] = -1;
