@@ -1,5 +1,7 @@
 #include "dgCorrectedCurvatureRadius.h"
 
+#include <Eigen/Core>
+
 #include <vtkSMPTools.h>
 
 #include <algorithm>
@@ -108,13 +110,31 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
   std::vector<double> ring(static_cast<std::size_t>(nGroups) * K * SUMS, 0.0);
   std::vector<double> repH(static_cast<std::size_t>(nGroups) * 4, 0.0); // H at R, 1.5R, 2R, 3R
   std::vector<char> repValid(nGroups, 0);
-  struct GroupCandidate
+  const double reach2 = ringReach * ringReach;
+  // The ladder padded to a vector's length (weights of 1 beyond it, whose
+  // rows are not kept).
+  constexpr int KP = 8;
+  Eigen::Array<double, KP, 1> LP;
+  for (int k = 0; k < KP; ++k)
+    LP[k] = k < K ? L[k] : 2 * maxRadius + 2 * soft;
+  // A group's weight is strictly between 0 and 1 for the radii within an
+  // open interval as wide as the ramp (with a margin for rounding), and it
+  // adds to those and to the next radius: to at most `rows` radii from the
+  // first that weighs it.
+  int rows = 1;
+  for (int k0 = 0; k0 < K; ++k0)
   {
-    double X, Y, Z, Q[SUMS];
-    int Region;
-  };
+    int n = 1;
+    for (int k = k0; k < K && L[k] - L[k0] < 1.001 * soft; ++k)
+      ++n;
+    rows = std::max(rows, std::min(n, K));
+  }
   vtkSMPTools::For(0, blocks, [&](std::int64_t begin, std::int64_t end) {
-    std::vector<GroupCandidate> near;
+    // The groups near a block, one array per quantity, so that each
+    // representative's distances to all of them are one vectorised loop.
+    std::vector<double> nearX, nearY, nearZ, nearQ, nearD2;
+    std::vector<int> nearRegion;
+    std::vector<std::int32_t> inside;
     for (std::int64_t b = begin; b < end; ++b)
     {
       const std::int64_t g0 = groups.BlockGroupStart[b], g1 = groups.BlockGroupStart[b + 1];
@@ -131,7 +151,11 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
       const auto cc = cells.CellOfPoint(cells.Centre(cells.BlockStart[b]));
       const std::int64_t bx = FaceCells::BlockOfCell(cc[0]), by = FaceCells::BlockOfCell(cc[1]),
                          bz = FaceCells::BlockOfCell(cc[2]);
-      near.clear();
+      nearX.clear();
+      nearY.clear();
+      nearZ.clear();
+      nearQ.clear();
+      nearRegion.clear();
       for (int dx = -3; dx <= 3; ++dx)
         for (int dy = -3; dy <= 3; ++dy)
           for (int dz = -3; dz <= 3; ++dz)
@@ -148,48 +172,77 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
               const double ex = std::max({ lo.x() - x.x(), 0.0, x.x() - hi.x() });
               const double ey = std::max({ lo.y() - x.y(), 0.0, x.y() - hi.y() });
               const double ez = std::max({ lo.z() - x.z(), 0.0, x.z() - hi.z() });
-              if (ex * ex + ey * ey + ez * ez >= ringReach * ringReach)
+              if (ex * ex + ey * ey + ez * ez >= reach2)
                 continue;
-              GroupCandidate cand;
-              cand.X = x.x();
-              cand.Y = x.y();
-              cand.Z = x.z();
-              for (int m = 0; m < SUMS; ++m)
-                cand.Q[m] = groups.Sums[SUMS * h + m];
-              cand.Region = groupRegion[h];
-              near.push_back(cand);
+              nearX.push_back(x.x());
+              nearY.push_back(x.y());
+              nearZ.push_back(x.z());
+              nearQ.insert(nearQ.end(), groups.Sums.begin() + SUMS * h,
+                groups.Sums.begin() + SUMS * (h + 1));
+              nearRegion.push_back(groupRegion[h]);
             }
           }
+      const std::int64_t nNear = static_cast<std::int64_t>(nearX.size());
+      nearD2.resize(nNear);
+      inside.resize(nNear);
       for (std::int64_t g = g0; g < g1; ++g)
       {
         const std::int64_t i = groupRep[g];
         const double* s0 = &firstSums[SUMS * i];
-        if (!(s0[0] > 0))
+        // A representative that keeps R (its ball of R is not a whole disc)
+        // gives neither its noise nor its rings to any face: its rings are
+        // not needed.
+        if (!(s0[0] > 0) || keepRadius[i])
           continue;
         double* s = &ring[static_cast<std::size_t>(g) * K * SUMS];
-        double acc[K * SUMS] = {}; // local: no aliasing with the candidates
+        double acc[2 * KP * SUMS] = {}; // local: no aliasing with the candidates
         const V3 x = cells.Centre(i);
-        for (const GroupCandidate& cand : near)
+        const double px = x.x(), py = x.y(), pz = x.z();
+        const int own = groupRegion[g];
         {
-          if (cand.Region != groupRegion[g])
-            continue;
-          const double ex = cand.X - x.x(), ey = cand.Y - x.y(), ez = cand.Z - x.z();
-          const double d2 = ex * ex + ey * ey + ez * ez;
-          if (d2 >= ringReach * ringReach)
-            continue;
-          const double d = std::sqrt(d2);
-          double before = 0;
-          for (int k = 0; k < K && before < 1; ++k)
+          const double* __restrict gx = nearX.data();
+          const double* __restrict gy = nearY.data();
+          const double* __restrict gz = nearZ.data();
+          double* __restrict gd2 = nearD2.data();
+          for (std::int64_t j = 0; j < nNear; ++j)
           {
-            const double w = std::min(1.0, std::max(0.0, 0.5 + (L[k] - d) / soft));
-            if (w > before)
-            {
-              double* sk = acc + k * SUMS;
-              for (int m = 0; m < SUMS; ++m)
-                sk[m] += (w - before) * cand.Q[m];
-              before = w;
-            }
+            const double ex = gx[j] - px, ey = gy[j] - py, ez = gz[j] - pz;
+            gd2[j] = ex * ex + ey * ey + ez * ez;
           }
+        }
+        // Without a branch: whether a group is inside is a coin toss.
+        std::int64_t nInside = 0;
+        for (std::int64_t j = 0; j < nNear; ++j)
+        {
+          inside[nInside] = static_cast<std::int32_t>(j);
+          nInside += (nearRegion[j] == own && nearD2[j] < reach2) ? 1 : 0;
+        }
+        for (std::int64_t n = 0; n < nInside; ++n)
+        {
+          const std::int64_t j = inside[n];
+          const double d = std::sqrt(nearD2[j]);
+          const Eigen::Map<const Eigen::Array<double, SUMS, 1>> q(
+            &nearQ[static_cast<std::size_t>(SUMS) * j]);
+          // The group adds the rise of its weight from each radius to the
+          // next (the weights grow with the radius) to that radius's ring,
+          // the same terms in the same order as a loop over the radii that
+          // stops at a weight of 1, but in `rows` rows from the first radius
+          // that weighs it (rises of 0 add nothing): no branch on the
+          // distance, which mispredicted half the time.
+          double w[KP + 1], rise[2 * KP];
+          w[0] = 0;
+          // All radii's ramps at once: one vector division.
+          Eigen::Map<Eigen::Array<double, KP, 1>>(w + 1) =
+            ((LP - d) / soft + 0.5).max(0.0).min(1.0);
+          int first = 0;
+          for (int k = 0; k < KP; ++k)
+          {
+            rise[k] = w[k + 1] - w[k];
+            first += w[k + 1] == 0 ? 1 : 0;
+            rise[KP + k] = 0;
+          }
+          for (int k = first; k < first + rows; ++k)
+            Eigen::Map<Eigen::Array<double, SUMS, 1>>(acc + k * SUMS) += rise[k] * q;
         }
         for (int k = 1; k < K; ++k)
           for (int m = 0; m < SUMS; ++m)
