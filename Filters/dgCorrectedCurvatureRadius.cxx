@@ -324,18 +324,18 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
   // 1.5 cells, weighted 1 - d / 1.5 cells, give the radius (then bounded
   // by the face's own curvature radius and [2R/3, 3R]) and the rings.
   const double blend = 1.5 * side, cellReach = blend + 0.5 * std::sqrt(3.0) * side;
-  struct NearRep
-  {
-    double X, Y, Z;
-    std::int64_t G;
-    int Region;
-  };
+  const double blend2 = blend * blend;
   vtkSMPTools::For(0, nCells, [&](std::int64_t begin, std::int64_t end) {
     Runs runs;
     Candidates candidates;
     bool gathered = false;
     char border;
-    std::vector<NearRep> nearGroups;
+    // The representatives near a cell, one array per quantity, so that a
+    // face's distances to all of them are one vectorised loop.
+    std::vector<double> nearX, nearY, nearZ, nearD2;
+    std::vector<std::int64_t> nearG;
+    std::vector<int> nearRegion;
+    std::vector<std::int32_t> inside;
     std::vector<std::pair<std::int64_t, double>> weights;
     double sum[QUANTITIES];
     for (std::int64_t c = begin; c < end; ++c)
@@ -350,7 +350,11 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
       // cell, and the cell's runs, once a face needs a smaller ball.
       const auto cc = cells.CellOfPoint(cells.Centre(first));
       const V3 middle((cc[0] + 0.5) * side, (cc[1] + 0.5) * side, (cc[2] + 0.5) * side);
-      nearGroups.clear();
+      nearX.clear();
+      nearY.clear();
+      nearZ.clear();
+      nearG.clear();
+      nearRegion.clear();
       for (std::int64_t k = cells.NeighbourStart[c]; k < cells.NeighbourStart[c + 1]; ++k)
       {
         const std::int64_t nc = cells.Neighbour[k];
@@ -358,9 +362,18 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
         {
           const V3 x = cells.Centre(groupRep[g]);
           if (repRadius[g] > 0 && (x - middle).squaredNorm() < cellReach * cellReach)
-            nearGroups.push_back({ x.x(), x.y(), x.z(), g, groupRegion[g] });
+          {
+            nearX.push_back(x.x());
+            nearY.push_back(x.y());
+            nearZ.push_back(x.z());
+            nearG.push_back(g);
+            nearRegion.push_back(groupRegion[g]);
+          }
         }
       }
+      const std::int64_t nNear = static_cast<std::int64_t>(nearX.size());
+      nearD2.resize(nNear);
+      inside.resize(nNear);
       gathered = false;
       for (std::int64_t i = first; i < cells.CellStart[c + 1]; ++i)
       {
@@ -370,16 +383,32 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
         double wSum = 0, r = 0;
         weights.clear();
         const double x = cells.Q[CX][i], y = cells.Q[CY][i], z = cells.Q[CZ][i];
-        for (const NearRep& near : nearGroups)
         {
-          const double ex = near.X - x, ey = near.Y - y, ez = near.Z - z;
-          const double d2 = ex * ex + ey * ey + ez * ez;
-          if (near.Region != cells.Region[i] || d2 >= blend * blend)
-            continue;
-          const double w = 1 - std::sqrt(d2) / blend;
-          weights.emplace_back(near.G, w);
+          const double* __restrict gx = nearX.data();
+          const double* __restrict gy = nearY.data();
+          const double* __restrict gz = nearZ.data();
+          double* __restrict gd2 = nearD2.data();
+          for (std::int64_t j = 0; j < nNear; ++j)
+          {
+            const double ex = gx[j] - x, ey = gy[j] - y, ez = gz[j] - z;
+            gd2[j] = ex * ex + ey * ey + ez * ez;
+          }
+        }
+        // Without a branch, as in the rings; then in the same order.
+        std::int64_t nInside = 0;
+        const int own = cells.Region[i];
+        for (std::int64_t j = 0; j < nNear; ++j)
+        {
+          inside[nInside] = static_cast<std::int32_t>(j);
+          nInside += (nearRegion[j] == own && nearD2[j] < blend2) ? 1 : 0;
+        }
+        for (std::int64_t n = 0; n < nInside; ++n)
+        {
+          const std::int64_t j = inside[n], g = nearG[j];
+          const double w = 1 - std::sqrt(nearD2[j]) / blend;
+          weights.emplace_back(g, w);
           wSum += w;
-          r += w * repRadius[near.G];
+          r += w * repRadius[g];
         }
         const auto keep = [&]() {
           std::copy(firstSums.begin() + SUMS * i, firstSums.begin() + SUMS * (i + 1), sum + M0);
