@@ -67,7 +67,7 @@ void SortIntoCells(const std::vector<V3>& centre, const std::vector<CorrectedMea
   cells.BlockStart.push_back(F);
   cells.Face.resize(F);
   cells.Q.assign(M0, std::vector<double>(F));
-  cells.Sums.resize(static_cast<std::size_t>(SUMS) * F);
+  cells.Sums.reset(new double[static_cast<std::size_t>(SUMS) * F]);
   cells.Region.assign(F, 0);
   cells.Inner.assign(F, 0);
   vtkSMPTools::For(0, F, [&](std::int64_t begin, std::int64_t end) {
@@ -81,7 +81,7 @@ void SortIntoCells(const std::vector<V3>& centre, const std::vector<CorrectedMea
         normals[3 * f + 1], normals[3 * f + 2] };
       for (int k = 0; k < M0; ++k)
         cells.Q[k][i] = values[k];
-      std::copy(values + M0, values + QUANTITIES, cells.Sums.begin() + SUMS * i);
+      std::copy(values + M0, values + QUANTITIES, cells.Sums.get() + SUMS * i);
       cells.Face[i] = f;
       cells.Region[i] = region ? region[f] : 0;
       cells.Inner[i] = interior[f];
@@ -185,7 +185,7 @@ void FaceCells::Gather(std::int64_t c, double r, Runs& runs, Candidates& candida
   // A fixed-size copy per row (std::copy called memmove for each).
   using Row = Eigen::Matrix<double, 1, SUMS>;
   for (Eigen::Index k = 0; k < n; ++k)
-    candidates.Q.row(k) = Eigen::Map<const Row>(this->Sums.data() + SUMS * index[k]);
+    candidates.Q.row(k) = Eigen::Map<const Row>(this->Sums.get() + SUMS * index[k]);
 }
 
 namespace

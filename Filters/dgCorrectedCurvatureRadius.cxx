@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 namespace dg
 {
@@ -73,7 +74,7 @@ void GroupFaces(const FaceCells& cells, const std::int64_t* faceIds, FaceGroups&
 }
 
 void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
-  const std::vector<double>& firstSums, const std::vector<char>& keepRadius,
+  const double* firstSums, const std::vector<char>& keepRadius,
   const unsigned char* ghost, double R, CurvatureResult& result)
 {
   // The error of H over a ball of radius r is a bias that grows like a r^2
@@ -107,7 +108,16 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
   // where its ramp starts, and the rings are summed up after); a face's
   // ball of r > R is its own ball of R plus C(r) - C_0 of the
   // representatives near it, blended.
-  std::vector<double> ring(static_cast<std::size_t>(nGroups) * K * SUMS, 0.0);
+  // Only the representatives that may give their rings have them (not
+  // those that keep R), and they are not zeroed: each is written whole by
+  // the threads (40 MB on octa-flower 512^3 were a serial memset and its
+  // page faults).
+  std::vector<std::int64_t> ringOf(nGroups, -1);
+  std::int64_t rings = 0;
+  for (std::int64_t g = 0; g < nGroups; ++g)
+    if (firstSums[SUMS * groupRep[g]] > 0 && !keepRadius[groupRep[g]])
+      ringOf[g] = rings++;
+  const std::unique_ptr<double[]> ring(new double[static_cast<std::size_t>(rings) * K * SUMS]);
   std::vector<double> repH(static_cast<std::size_t>(nGroups) * 4, 0.0); // H at R, 1.5R, 2R, 3R
   std::vector<char> repValid(nGroups, 0);
   const double reach2 = ringReach * ringReach;
@@ -194,7 +204,7 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
         // not needed.
         if (!(s0[0] > 0) || keepRadius[i])
           continue;
-        double* s = &ring[static_cast<std::size_t>(g) * K * SUMS];
+        double* s = &ring[static_cast<std::size_t>(ringOf[g]) * K * SUMS];
         double acc[2 * KP * SUMS] = {}; // local: no aliasing with the candidates
         const V3 x = cells.Centre(i);
         const double px = x.x(), py = x.y(), pz = x.z();
@@ -411,7 +421,7 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
           r += w * repRadius[g];
         }
         const auto keep = [&]() {
-          std::copy(firstSums.begin() + SUMS * i, firstSums.begin() + SUMS * (i + 1), sum + M0);
+          std::copy(firstSums + SUMS * i, firstSums + SUMS * (i + 1), sum + M0);
           CurvaturesFromSums(f, sum, true, result);
         };
         if (wSum == 0)
@@ -444,10 +454,10 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
             ++k;
           const double t =
             std::min(1.0, (r * r - L[k] * L[k]) / (L[k + 1] * L[k + 1] - L[k] * L[k]));
-          std::copy(firstSums.begin() + SUMS * i, firstSums.begin() + SUMS * (i + 1), sum + M0);
+          std::copy(firstSums + SUMS * i, firstSums + SUMS * (i + 1), sum + M0);
           for (const auto& w : weights)
           {
-            const double* s = &ring[static_cast<std::size_t>(w.first) * K * SUMS];
+            const double* s = &ring[static_cast<std::size_t>(ringOf[w.first]) * K * SUMS];
             const double u = w.second / wSum;
             for (int m = 0; m < SUMS; ++m)
               sum[M0 + m] += u * ((1 - t) * s[k * SUMS + m] + t * s[(k + 1) * SUMS + m] - s[m]);
