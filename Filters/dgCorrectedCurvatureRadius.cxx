@@ -121,24 +121,11 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
   std::vector<double> repH(static_cast<std::size_t>(nGroups) * 4, 0.0); // H at R, 1.5R, 2R, 3R
   std::vector<char> repValid(nGroups, 0);
   const double reach2 = ringReach * ringReach;
-  // The ladder padded to a vector's length (weights of 1 beyond it, whose
-  // rows are not kept).
+  // The ladder padded to a vector's length.
   constexpr int KP = 8;
   Eigen::Array<double, KP, 1> LP;
   for (int k = 0; k < KP; ++k)
     LP[k] = k < K ? L[k] : 2 * maxRadius + 2 * soft;
-  // A group's weight is strictly between 0 and 1 for the radii within an
-  // open interval as wide as the ramp (with a margin for rounding), and it
-  // adds to those and to the next radius: to at most `rows` radii from the
-  // first that weighs it.
-  int rows = 1;
-  for (int k0 = 0; k0 < K; ++k0)
-  {
-    int n = 1;
-    for (int k = k0; k < K && L[k] - L[k0] < 1.001 * soft; ++k)
-      ++n;
-    rows = std::max(rows, std::min(n, K));
-  }
   vtkSMPTools::For(0, blocks, [&](std::int64_t begin, std::int64_t end) {
     // The groups near a block, one array per quantity, so that each
     // representative's distances to all of them are one vectorised loop.
@@ -205,7 +192,12 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
         if (!(s0[0] > 0) || keepRadius[i])
           continue;
         double* s = &ring[static_cast<std::size_t>(ringOf[g]) * K * SUMS];
-        double acc[2 * KP * SUMS] = {}; // local: no aliasing with the candidates
+        // Each radius's sums in registers (7 x 12 doubles), added to
+        // without a load and store per group.
+        using Row = Eigen::Array<double, SUMS, 1>;
+        Row acc[K];
+        for (int k = 0; k < K; ++k)
+          acc[k].setZero();
         const V3 x = cells.Centre(i);
         const double px = x.x(), py = x.y(), pz = x.z();
         const int own = groupRegion[g];
@@ -231,33 +223,22 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
         {
           const std::int64_t j = inside[n];
           const double d = std::sqrt(nearD2[j]);
-          const Eigen::Map<const Eigen::Array<double, SUMS, 1>> q(
-            &nearQ[static_cast<std::size_t>(SUMS) * j]);
+          const Row q = Eigen::Map<const Row>(&nearQ[static_cast<std::size_t>(SUMS) * j]);
           // The group adds the rise of its weight from each radius to the
-          // next (the weights grow with the radius) to that radius's ring,
+          // next (the weights grow with the radius) to that radius's ring:
           // the same terms in the same order as a loop over the radii that
-          // stops at a weight of 1, but in `rows` rows from the first radius
-          // that weighs it (rises of 0 add nothing): no branch on the
-          // distance, which mispredicted half the time.
-          double w[KP + 1], rise[2 * KP];
-          w[0] = 0;
-          // All radii's ramps at once: one vector division.
-          Eigen::Map<Eigen::Array<double, KP, 1>>(w + 1) =
-            ((LP - d) / soft + 0.5).max(0.0).min(1.0);
-          int first = 0;
-          for (int k = 0; k < KP; ++k)
-          {
-            rise[k] = w[k + 1] - w[k];
-            first += w[k + 1] == 0 ? 1 : 0;
-            rise[KP + k] = 0;
-          }
-          for (int k = first; k < first + rows; ++k)
-            Eigen::Map<Eigen::Array<double, SUMS, 1>>(acc + k * SUMS) += rise[k] * q;
+          // stops at a weight of 1, and rises of 0 to the others, which add
+          // nothing; no branch on the distance, which mispredicted half the
+          // time. All radii's ramps at once: one vector division.
+          const Eigen::Array<double, KP, 1> w = ((LP - d) / soft + 0.5).max(0.0).min(1.0);
+          acc[0] += w[0] * q;
+          for (int k = 1; k < K; ++k)
+            acc[k] += (w[k] - w[k - 1]) * q;
         }
         for (int k = 1; k < K; ++k)
-          for (int m = 0; m < SUMS; ++m)
-            acc[k * SUMS + m] += acc[(k - 1) * SUMS + m];
-        std::copy(acc, acc + K * SUMS, s);
+          acc[k] += acc[k - 1];
+        for (int k = 0; k < K; ++k)
+          Eigen::Map<Row>(s + k * SUMS) = acc[k];
         bool valid = true;
         const int at[4] = { 0, K15, K2, K3 };
         for (int n = 0; n < 4 && valid; ++n)
