@@ -67,7 +67,7 @@ void SortIntoCells(const std::vector<V3>& centre, const std::vector<CorrectedMea
   cells.BlockStart.push_back(F);
   cells.Face.resize(F);
   cells.Q.assign(M0, std::vector<double>(F));
-  cells.Sums.resize(static_cast<std::size_t>(SUMS) * F);
+  cells.Sums.reset(new double[static_cast<std::size_t>(SUMS) * F]);
   cells.Region.assign(F, 0);
   cells.Inner.assign(F, 0);
   vtkSMPTools::For(0, F, [&](std::int64_t begin, std::int64_t end) {
@@ -81,7 +81,7 @@ void SortIntoCells(const std::vector<V3>& centre, const std::vector<CorrectedMea
         normals[3 * f + 1], normals[3 * f + 2] };
       for (int k = 0; k < M0; ++k)
         cells.Q[k][i] = values[k];
-      std::copy(values + M0, values + QUANTITIES, cells.Sums.begin() + SUMS * i);
+      std::copy(values + M0, values + QUANTITIES, cells.Sums.get() + SUMS * i);
       cells.Face[i] = f;
       cells.Region[i] = region ? region[f] : 0;
       cells.Inner[i] = interior[f];
@@ -144,18 +144,28 @@ void FaceCells::Gather(std::int64_t c, double r, Runs& runs, Candidates& candida
   this->NeighbourRuns(c, runs);
   const double rr = r + 0.5 * this->EdgeLength, rr2 = rr * rr;
   std::vector<std::int64_t>& index = candidates.Index;
-  index.clear();
+  std::size_t total = 0;
+  for (const auto& run : runs)
+    total += static_cast<std::size_t>(run.second - run.first);
+  index.resize(total);
+  // Without a branch (most faces of the runs are in, the others a coin toss
+  // along the runs' edges): every face is written, the count moves on for
+  // those within reach.
+  std::int64_t* out = index.data();
+  std::int64_t found = 0;
+  const double lx = lo.x(), ly = lo.y(), lz = lo.z(), hx = hi.x(), hy = hi.y(), hz = hi.z();
   for (const auto& run : runs)
     for (std::int64_t j = run.first; j < run.second; ++j)
     {
       const double x = X[j], y = Y[j], z = Z[j];
-      const double ex = std::max({ lo.x() - x, 0.0, x - hi.x() });
-      const double ey = std::max({ lo.y() - y, 0.0, y - hi.y() });
-      const double ez = std::max({ lo.z() - z, 0.0, z - hi.z() });
-      if (ex * ex + ey * ey + ez * ez < rr2)
-        index.push_back(j);
+      const double ex = std::max(std::max(lx - x, 0.0), x - hx);
+      const double ey = std::max(std::max(ly - y, 0.0), y - hy);
+      const double ez = std::max(std::max(lz - z, 0.0), z - hz);
+      out[found] = j;
+      found += ex * ex + ey * ey + ez * ez < rr2 ? 1 : 0;
     }
-  const Eigen::Index n = static_cast<Eigen::Index>(index.size());
+  index.resize(found);
+  const Eigen::Index n = static_cast<Eigen::Index>(found);
   candidates.X.resize(n);
   candidates.Y.resize(n);
   candidates.Z.resize(n);
@@ -172,9 +182,10 @@ void FaceCells::Gather(std::int64_t c, double r, Runs& runs, Candidates& candida
     candidates.InnerRegion[k] =
       this->Inner[j] ? candidates.Region[k] : std::numeric_limits<double>::quiet_NaN();
   }
+  // A fixed-size copy per row (std::copy called memmove for each).
+  using Row = Eigen::Matrix<double, 1, SUMS>;
   for (Eigen::Index k = 0; k < n; ++k)
-    std::copy(this->Sums.begin() + SUMS * index[k], this->Sums.begin() + SUMS * (index[k] + 1),
-      candidates.Q.row(k).data());
+    candidates.Q.row(k) = Eigen::Map<const Row>(this->Sums.get() + SUMS * index[k]);
 }
 
 namespace

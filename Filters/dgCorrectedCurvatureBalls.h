@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -123,7 +124,9 @@ struct FaceCells
   std::vector<std::int64_t> NeighbourStart, Neighbour;
   std::vector<char> NeighbourAdjacent;
   std::vector<std::vector<double>> Q; // the centres (CX, CY, CZ), an array each, in cell order
-  std::vector<double> Sums; // SUMS per position: what a ball sums, one face's contiguous
+  // SUMS per position: what a ball sums, one face's contiguous; not zeroed
+  // when made (every position is written on the threads).
+  std::unique_ptr<double[]> Sums;
   std::vector<int> Region;            // per position (0 without regions)
   std::vector<char> Inner;            // per position: all corners inside its region
 

@@ -36,7 +36,7 @@ void GroupFaces(const FaceCells& cells, const std::int64_t* faceIds, FaceGroups&
 /// of its region's interior faces, so the face keeps R). Faces with a
 /// result (BallRadius > 0) get their directions here.
 void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
-  const std::vector<double>& firstSums, const std::vector<char>& keepRadius,
+  const double* firstSums, const std::vector<char>& keepRadius,
   const unsigned char* ghost, double R, CurvatureResult& result);
 
 } // namespace curvature

@@ -180,6 +180,15 @@ int vtkCorrectedCurvatureFilter::RequestData(
   if (problem.empty() && nFaces > 0)
   {
     mesh.Points.resize(3 * nPoints);
+    // Sized once: growing by doubling copied them and touched fresh memory
+    // at each step (2.7 million corners on octa-flower 512^3).
+    mesh.Offsets.reserve(nFaces + 1);
+    mesh.Connectivity.reserve(polys->GetNumberOfConnectivityIds());
+    mesh.Normals.reserve(3 * nFaces);
+    mesh.Region.reserve(regions ? nFaces : 0);
+    mesh.FaceIds.reserve(cellIds ? nFaces : 0);
+    mesh.Ghost.reserve(nFaces);
+    ownCell.reserve(nFaces);
     for (vtkIdType p = 0; p < nPoints; ++p)
       input->GetPoint(p, &mesh.Points[3 * p]);
     if (pointIds)
