@@ -713,23 +713,26 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
         par.FitResidual * meanEdge2);
     }
     std::vector<Vec3> data(F);
-    for (std::int64_t f = 0; f < F; ++f)
-    {
-      // A side normal is data only where it is a side's: near a crease the
-      // input blends the two sides, so it lies within about half the
-      // crease's angle of either; a side normal farther than 60 degrees
-      // from the input came from a region beyond a band wider than the
-      // search (measured on organic volumes, whose bands cover more than
-      // half the surface).
-      data[f] = steps[f] >= 0 && AngleDegrees(out[f], input[f]) <= 60 ? out[f] : input[f];
-      const int r = result.Region[f];
-      if (steps[f] >= 0 && r >= 0 && !sideQuadrics.empty() && sideQuadrics[r].Valid &&
-        std::abs(sideQuadrics[r].Distance(centre[f])) <= meanEdge2 &&
-        AngleDegrees(sideQuadrics[r].Normal(centre[f]), data[f]) < par.MinimumFeatureAngle)
+    vtkSMPTools::For(0, F, [&](std::int64_t begin, std::int64_t end) {
+      for (std::int64_t f = begin; f < end; ++f)
       {
-        data[f] = sideQuadrics[r].Normal(centre[f]);
+        // A side normal is data only where it is a side's: near a crease
+        // the input blends the two sides, so it lies within about half the
+        // crease's angle of either; a side normal farther than 60 degrees
+        // from the input came from a region beyond a band wider than the
+        // search (measured on organic volumes, whose bands cover more than
+        // half the surface).
+        data[f] = steps[f] >= 0 && AngleDegrees(out[f], input[f]) <= 60 ? out[f] : input[f];
+        const int r = result.Region[f];
+        if (steps[f] >= 0 && r >= 0 && !sideQuadrics.empty() && sideQuadrics[r].Valid &&
+          std::abs(sideQuadrics[r].Distance(centre[f])) <= meanEdge2)
+        {
+          const Vec3 n = sideQuadrics[r].Normal(centre[f]);
+          if (AngleDegrees(n, data[f]) < par.MinimumFeatureAngle)
+            data[f] = n;
+        }
       }
-    }
+    });
     const auto fieldStart = std::chrono::steady_clock::now();
     if (!SmoothFieldWithinSides(graph, crease, centre, data, width * meanEdge2, out))
       return fail("the output field needs a positive width");

@@ -242,46 +242,66 @@ Vec3 RegionQuadric::Normal(const Vec3& x) const
 // makes both terms vanish. AT's normals are smooth where the positions
 // carry the staircase and the noise, so both count: a position residual of
 // one edge length weighs as a normal residual of one radian.
+namespace
+{
+// Each region's faces, in face order (the order the fits add them in).
+struct RegionFaces
+{
+  std::vector<std::int64_t> Start, Faces;
+};
+
+RegionFaces ListRegionFaces(const std::vector<int>& region, int regions)
+{
+  RegionFaces lists;
+  lists.Start.assign(regions + 1, 0);
+  for (int r : region)
+    if (r >= 0)
+      ++lists.Start[r + 1];
+  for (int r = 0; r < regions; ++r)
+    lists.Start[r + 1] += lists.Start[r];
+  lists.Faces.resize(lists.Start[regions]);
+  std::vector<std::int64_t> next(lists.Start.begin(), lists.Start.end() - 1);
+  for (std::size_t f = 0; f < region.size(); ++f)
+    if (region[f] >= 0)
+      lists.Faces[next[region[f]]++] = static_cast<std::int64_t>(f);
+  return lists;
+}
+} // namespace
+
 std::vector<RegionQuadric> FitRegionQuadrics(const std::vector<int>& region, int regions,
   const std::vector<Vec3>& centre, const std::vector<Vec3>& field, const std::vector<char>& skip,
   int minimumSize, double minimumExtent, double unit)
 {
   std::vector<RegionQuadric> quadrics(regions);
-  std::vector<int> count(regions, 0);
-  std::vector<Vec3> sum(regions);
-  for (std::size_t f = 0; f < region.size(); ++f)
-    if (region[f] >= 0 && !skip[region[f]])
+  const RegionFaces lists = ListRegionFaces(region, regions);
+  // One region per task, its faces in face order: the sums are those of a
+  // single pass over the faces.
+  vtkSMPTools::For(0, regions, [&](int begin, int end) {
+    for (int r = begin; r < end; ++r)
     {
-      sum[region[f]] += centre[f];
-      ++count[region[f]];
+      const std::int64_t* faces = lists.Faces.data() + lists.Start[r];
+      const std::int64_t count = lists.Start[r + 1] - lists.Start[r];
+      if (skip[r] || count == 0)
+        continue;
+      Vec3 sum;
+      for (std::int64_t i = 0; i < count; ++i)
+        sum += centre[faces[i]];
+      RegionQuadric& q = quadrics[r];
+      q.Centre = sum * (1.0 / static_cast<double>(count));
+      double extent = 0;
+      for (std::int64_t i = 0; i < count; ++i)
+        extent = std::max(extent, (centre[faces[i]] - q.Centre).Norm());
+      if (count < minimumSize || extent < minimumExtent || !(extent > 0))
+        continue;
+      q.Scale = extent;
+      Matrix10 normal = Matrix10::Zero();
+      Vector10 rhs = Vector10::Zero();
+      for (std::int64_t i = 0; i < count; ++i)
+        AddQuadricRows(normal, rhs, (centre[faces[i]] - q.Centre) * (1.0 / extent),
+          field[faces[i]], extent * extent / (unit * unit));
+      SolveQuadric(normal, rhs, q);
     }
-  std::vector<double> extent(regions, 0);
-  for (int r = 0; r < regions; ++r)
-    quadrics[r].Centre = sum[r] * (1.0 / std::max(1, count[r]));
-  for (std::size_t f = 0; f < region.size(); ++f)
-    if (region[f] >= 0 && !skip[region[f]])
-      extent[region[f]] =
-        std::max(extent[region[f]], (centre[f] - quadrics[region[f]].Centre).Norm());
-  std::vector<char> fit(regions, 0);
-  for (int r = 0; r < regions; ++r)
-  {
-    fit[r] = !skip[r] && count[r] >= minimumSize && extent[r] >= minimumExtent && extent[r] > 0;
-    quadrics[r].Scale = fit[r] ? extent[r] : 1.0;
-  }
-  std::vector<Matrix10> normal(regions, Matrix10::Zero());
-  std::vector<Vector10> rhs(regions, Vector10::Zero());
-  for (std::size_t f = 0; f < region.size(); ++f)
-  {
-    const int r = region[f];
-    if (r < 0 || !fit[r])
-      continue;
-    const double s = quadrics[r].Scale;
-    AddQuadricRows(normal[r], rhs[r], (centre[f] - quadrics[r].Centre) * (1.0 / s), field[f],
-      s * s / (unit * unit));
-  }
-  for (int r = 0; r < regions; ++r)
-    if (fit[r])
-      SolveQuadric(normal[r], rhs[r], quadrics[r]);
+  });
   return quadrics;
 }
 
@@ -294,20 +314,27 @@ std::vector<RegionQuadric> FitQuadricSides(const std::vector<int>& region, int r
     skip[r] = !wanted[r];
   std::vector<RegionQuadric> quadrics =
     FitRegionQuadrics(region, regions, centre, field, skip, minimumSize, minimumExtent, unit);
+  const std::int64_t F = static_cast<std::int64_t>(region.size());
+  std::vector<double> distance2(F, 0.0);
+  vtkSMPTools::For(0, F, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t f = begin; f < end; ++f)
+      if (region[f] >= 0 && quadrics[region[f]].Valid)
+      {
+        const double d = quadrics[region[f]].Distance(centre[f]);
+        distance2[f] = d * d;
+      }
+  });
   std::vector<double> sum2(regions, 0.0);
   std::vector<std::int64_t> count(regions, 0);
-  for (std::size_t f = 0; f < region.size(); ++f)
-  {
-    const int r = region[f];
-    if (r >= 0 && quadrics[r].Valid)
+  for (std::int64_t f = 0; f < F; ++f)
+    if (region[f] >= 0)
     {
-      const double d = quadrics[r].Distance(centre[f]);
-      sum2[r] += d * d;
-      ++count[r];
+      sum2[region[f]] += distance2[f];
+      ++count[region[f]];
     }
-  }
   for (int r = 0; r < regions; ++r)
-    quadrics[r].Valid = quadrics[r].Valid && count[r] > 0 && std::sqrt(sum2[r] / count[r]) <= maxResidual;
+    quadrics[r].Valid =
+      quadrics[r].Valid && count[r] > 0 && std::sqrt(sum2[r] / count[r]) <= maxResidual;
   return quadrics;
 }
 
