@@ -234,14 +234,6 @@ Vec3 RegionQuadric::Normal(const Vec3& x) const
     .Unit();
 }
 
-// Linear least squares in the ten coefficients of Q in the scaled
-// coordinates y = (x - c) / s: sum over the faces of (s Q(y_i) / unit)^2 +
-// |grad Q(y_i) - n_i|^2. The normals' term fixes the scale of Q (no
-// trivial zero, no normalisation constraint to choose) and its sign (grad Q
-// points outside); on a sphere of radius R, Q = (|x - c|^2 - R^2) / 2R
-// makes both terms vanish. AT's normals are smooth where the positions
-// carry the staircase and the noise, so both count: a position residual of
-// one edge length weighs as a normal residual of one radian.
 namespace
 {
 // Each region's faces, in face order (the order the fits add them in).
@@ -268,6 +260,14 @@ RegionFaces ListRegionFaces(const std::vector<int>& region, int regions)
 }
 } // namespace
 
+// Linear least squares in the ten coefficients of Q in the scaled
+// coordinates y = (x - c) / s: sum over the faces of (s Q(y_i) / unit)^2 +
+// |grad Q(y_i) - n_i|^2. The normals' term fixes the scale of Q (no
+// trivial zero, no normalisation constraint to choose) and its sign (grad Q
+// points outside); on a sphere of radius R, Q = (|x - c|^2 - R^2) / 2R
+// makes both terms vanish. AT's normals are smooth where the positions
+// carry the staircase and the noise, so both count: a position residual of
+// one edge length weighs as a normal residual of one radian.
 std::vector<RegionQuadric> FitRegionQuadrics(const std::vector<int>& region, int regions,
   const std::vector<Vec3>& centre, const std::vector<Vec3>& field, const std::vector<char>& skip,
   int minimumSize, double minimumExtent, double unit)
