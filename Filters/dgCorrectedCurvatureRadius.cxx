@@ -73,6 +73,38 @@ void GroupFaces(const FaceCells& cells, const std::int64_t* faceIds, FaceGroups&
   groups.CellGroupStart[nCells] = static_cast<std::int64_t>(rep.size());
 }
 
+namespace
+{
+// The candidates (one array per coordinate) of region `own` within
+// sqrt(reach2) of p: their squared distances in d2 (a loop that
+// vectorises), their indices in `inside` in order, chosen without a branch
+// (whether a candidate is in is a coin toss); returns how many.
+std::int64_t SelectNear(const std::vector<double>& X, const std::vector<double>& Y,
+  const std::vector<double>& Z, const std::vector<int>& region, double px, double py, double pz,
+  int own, double reach2, std::vector<double>& d2, std::vector<std::int32_t>& inside)
+{
+  const std::int64_t n = static_cast<std::int64_t>(X.size());
+  {
+    const double* __restrict gx = X.data();
+    const double* __restrict gy = Y.data();
+    const double* __restrict gz = Z.data();
+    double* __restrict gd2 = d2.data();
+    for (std::int64_t j = 0; j < n; ++j)
+    {
+      const double ex = gx[j] - px, ey = gy[j] - py, ez = gz[j] - pz;
+      gd2[j] = ex * ex + ey * ey + ez * ez;
+    }
+  }
+  std::int64_t count = 0;
+  for (std::int64_t j = 0; j < n; ++j)
+  {
+    inside[count] = static_cast<std::int32_t>(j);
+    count += (region[j] == own && d2[j] < reach2) ? 1 : 0;
+  }
+  return count;
+}
+} // namespace
+
 void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
   const double* firstSums, const std::vector<char>& keepRadius,
   const unsigned char* ghost, double R, CurvatureResult& result)
@@ -201,24 +233,8 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
         const V3 x = cells.Centre(i);
         const double px = x.x(), py = x.y(), pz = x.z();
         const int own = groupRegion[g];
-        {
-          const double* __restrict gx = nearX.data();
-          const double* __restrict gy = nearY.data();
-          const double* __restrict gz = nearZ.data();
-          double* __restrict gd2 = nearD2.data();
-          for (std::int64_t j = 0; j < nNear; ++j)
-          {
-            const double ex = gx[j] - px, ey = gy[j] - py, ez = gz[j] - pz;
-            gd2[j] = ex * ex + ey * ey + ez * ez;
-          }
-        }
-        // Without a branch: whether a group is inside is a coin toss.
-        std::int64_t nInside = 0;
-        for (std::int64_t j = 0; j < nNear; ++j)
-        {
-          inside[nInside] = static_cast<std::int32_t>(j);
-          nInside += (nearRegion[j] == own && nearD2[j] < reach2) ? 1 : 0;
-        }
+        const std::int64_t nInside =
+          SelectNear(nearX, nearY, nearZ, nearRegion, px, py, pz, own, reach2, nearD2, inside);
         for (std::int64_t n = 0; n < nInside; ++n)
         {
           const std::int64_t j = inside[n];
@@ -374,25 +390,8 @@ void ChooseBallRadii(const FaceCells& cells, const FaceGroups& groups,
         double wSum = 0, r = 0;
         weights.clear();
         const double x = cells.Q[CX][i], y = cells.Q[CY][i], z = cells.Q[CZ][i];
-        {
-          const double* __restrict gx = nearX.data();
-          const double* __restrict gy = nearY.data();
-          const double* __restrict gz = nearZ.data();
-          double* __restrict gd2 = nearD2.data();
-          for (std::int64_t j = 0; j < nNear; ++j)
-          {
-            const double ex = gx[j] - x, ey = gy[j] - y, ez = gz[j] - z;
-            gd2[j] = ex * ex + ey * ey + ez * ez;
-          }
-        }
-        // Without a branch, as in the rings; then in the same order.
-        std::int64_t nInside = 0;
-        const int own = cells.Region[i];
-        for (std::int64_t j = 0; j < nNear; ++j)
-        {
-          inside[nInside] = static_cast<std::int32_t>(j);
-          nInside += (nearRegion[j] == own && nearD2[j] < blend2) ? 1 : 0;
-        }
+        const std::int64_t nInside = SelectNear(
+          nearX, nearY, nearZ, nearRegion, x, y, z, cells.Region[i], blend2, nearD2, inside);
         for (std::int64_t n = 0; n < nInside; ++n)
         {
           const std::int64_t j = inside[n], g = nearG[j];

@@ -11,6 +11,19 @@ namespace dg
 {
 namespace sharp
 {
+namespace
+{
+// The sample of `region` among a search's samples, added empty if new.
+RegionSample& SampleOf(std::vector<RegionSample>& samples, int region)
+{
+  for (RegionSample& r : samples)
+    if (r.Region == region)
+      return r;
+  samples.emplace_back();
+  samples.back().Region = region;
+  return samples.back();
+}
+} // namespace
 
 void ChooseSides(const FaceGraph& graph, const std::vector<std::int64_t>& bandFaces,
   const std::vector<int>& region, const std::vector<RegionPlane>& planes,
@@ -36,14 +49,7 @@ void ChooseSides(const FaceGraph& graph, const std::vector<std::int64_t>& bandFa
           return limit;
         if (s.Samples.empty())
           limit = std::min(limit, depth + par.SearchDepth);
-        auto it = std::find_if(s.Samples.begin(), s.Samples.end(),
-          [&](const RegionSample& r) { return r.Region == region[f]; });
-        if (it == s.Samples.end())
-        {
-          s.Samples.emplace_back();
-          s.Samples.back().Region = region[f];
-          it = s.Samples.end() - 1;
-        }
+        RegionSample* it = &SampleOf(s.Samples, region[f]);
         ++it->Count;
         if (!quadricDistance.empty())
           it->QuadricDistanceSum += quadricDistance[f];
@@ -152,16 +158,9 @@ void ChooseSides(const FaceGraph& graph, const std::vector<std::int64_t>& bandFa
         Breadth(graph, s, f0, par.SmoothingDepth, all, [&](std::int64_t f, int, int limit) {
           if (assigned[f] < 0)
             return limit;
-          auto it = std::find_if(s.Samples.begin(), s.Samples.end(),
-            [&](const RegionSample& r) { return r.Region == assigned[f]; });
-          if (it == s.Samples.end())
-          {
-            s.Samples.emplace_back();
-            s.Samples.back().Region = assigned[f];
-            it = s.Samples.end() - 1;
-          }
-          ++it->Count;
-          it->NormalSum += out[f];
+          RegionSample& sample = SampleOf(s.Samples, assigned[f]);
+          ++sample.Count;
+          sample.NormalSum += out[f];
           return limit;
         });
         const RegionSample* own = nullptr;
