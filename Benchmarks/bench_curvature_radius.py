@@ -129,6 +129,9 @@ def main():
                 cf = vtkCorrectedCurvatureFilter()
                 cf.SetInputData(surface)
                 cf.SetRadius(b)
+                # One ball for every face: the radius per face (the filter's
+                # default) is bench_adaptive_radius.py's subject.
+                cf.SetAdaptiveRadius(False)
                 cf.SetPerSide("--whole" not in sys.argv)
                 cf.Update()
                 H = vtk_to_numpy(cf.GetOutput().GetCellData().GetArray("CorrectedMeanCurvature"))
