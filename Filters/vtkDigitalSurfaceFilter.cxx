@@ -554,12 +554,20 @@ int vtkDigitalSurfaceFilter::ExecutePiece(vtkInformation*,
     output->GetCellData()->AddArray(ghostArray);
   }
 
+  AddImageRecord(output, piece.Whole, origin, spacing);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkDigitalSurfaceFilter::AddImageRecord(
+  vtkPolyData* output, const int whole[6], const double origin[3], const double spacing[3])
+{
   vtkNew<vtkIntArray> extArray;
   extArray->SetName("ImageExtent");
   extArray->SetNumberOfValues(6);
   for (int a = 0; a < 6; ++a)
   {
-    extArray->SetValue(a, piece.Whole[a]);
+    extArray->SetValue(a, whole[a]);
   }
   vtkNew<vtkDoubleArray> originArray, spacingArray;
   originArray->SetName("ImageOrigin");
@@ -574,8 +582,6 @@ int vtkDigitalSurfaceFilter::ExecutePiece(vtkInformation*,
   output->GetFieldData()->AddArray(extArray);
   output->GetFieldData()->AddArray(originArray);
   output->GetFieldData()->AddArray(spacingArray);
-  this->UpdateProgress(1.0);
-  return 1;
 }
 
 void vtkDigitalSurfaceFilter::PrintSelf(ostream& os, vtkIndent indent)

@@ -227,6 +227,10 @@ protected:
     const int whole[6],
     vtkPolyData* output,
     vtkInformationVector* outputVector);
+  // The whole image's record every mode writes (field data ImageExtent,
+  // ImageOrigin, ImageSpacing): the estimators check a surface against it.
+  static void AddImageRecord(
+    vtkPolyData* output, const int whole[6], const double origin[3], const double spacing[3]);
 
 private:
   std::unique_ptr<dg::PipelineAbort> Abort;

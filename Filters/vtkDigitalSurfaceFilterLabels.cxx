@@ -237,26 +237,6 @@ int vtkDigitalSurfaceFilter::ExecuteEachLabel(vtkImageData* input,
     output->GetCellData()->AddArray(outsideLabels);
   }
 
-  // The whole image's record, as in the other modes: the estimators check it.
-  vtkNew<vtkIntArray> extArray;
-  extArray->SetName("ImageExtent");
-  extArray->SetNumberOfValues(6);
-  for (int a = 0; a < 6; ++a)
-  {
-    extArray->SetValue(a, whole[a]);
-  }
-  vtkNew<vtkDoubleArray> originArray, spacingArray;
-  originArray->SetName("ImageOrigin");
-  spacingArray->SetName("ImageSpacing");
-  originArray->SetNumberOfValues(3);
-  spacingArray->SetNumberOfValues(3);
-  for (int a = 0; a < 3; ++a)
-  {
-    originArray->SetValue(a, input->GetOrigin()[a]);
-    spacingArray->SetValue(a, input->GetSpacing()[a]);
-  }
-  output->GetFieldData()->AddArray(extArray);
-  output->GetFieldData()->AddArray(originArray);
-  output->GetFieldData()->AddArray(spacingArray);
+  AddImageRecord(output, whole, input->GetOrigin(), input->GetSpacing());
   return 1;
 }
