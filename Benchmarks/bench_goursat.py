@@ -7,8 +7,9 @@ curvature-comparator example measures it (issue 37): the shape
 defaults and --curvature on it (world units: spacing h); the true H at each
 face centre's projection onto the surface; errors max |H - H_true| (L-oo)
 and sqrt(mean (H - H_true)^2) (L2, DGtal's getScalarsNormL2), for the
-program's ball radius and a few others (the filter again on the program's
-surface).
+program's own CorrectedMeanCurvature (its defaults: a radius per face) and
+for one ball of a few radii (voxels; the filter again on the program's
+surface with AdaptiveRadius off).
 
     /usr/bin/python3 Benchmarks/bench_goursat.py [--h 0.5,0.25,0.125] [--balls 3,5,7]
         [-- extra program options, e.g. --radius 8]
@@ -103,11 +104,15 @@ def main():
         if ii is not None:
             e = np.abs(vtk_to_numpy(ii) - truth)
             row.append("II: %.4f %.4f" % (e.max(), np.sqrt((e ** 2).mean())))
+        own = surface.GetCellData().GetArray("CorrectedMeanCurvature")
+        e = np.abs(vtk_to_numpy(own) - truth)
+        row.append("program: %.4f %.4f" % (e.max(), np.sqrt((e ** 2).mean())))
         for b in balls:
             f = vtkCorrectedCurvatureFilter()
             f.SetInputData(surface)
             f.SetInputArrayToProcess(0, 0, 0, 1, "SharpNormals")
             f.SetRadius(b)
+            f.SetAdaptiveRadius(False)
             f.Update()
             H = vtk_to_numpy(f.GetOutput().GetCellData().GetArray("CorrectedMeanCurvature"))
             e = np.abs(H - truth)
