@@ -639,23 +639,24 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
     }
   }
   // 10. The output field (dgSharpFeaturesField.h): a twiced Gaussian of the
-  // input normals within each side of the kept creases, or of the side
-  // normals found above within SearchDepth of a crease, where the input
-  // blends the two sides. Its width follows the noise the surface shows:
-  // the share of faces that face away from their input normal (a voxel face
+  // input normals within each side of the kept creases (blended with AT's u
+  // away from the lines and AT's band, as much as the surface is noisy), or
+  // of the side normals found above within SearchDepth of a crease, where
+  // the input blends the two sides. The noise the surface shows is the
+  // share of faces that face away from their input normal (a voxel face
   // turned more than 90 degrees from the surface), 0 on a clean digital
-  // surface of any shape and 0.22-0.23 at the paper's noise k = 0.3.
+  // surface of any shape and 0.22-0.23 at the paper's noise k = 0.3; it
+  // sets the Gaussian's width too.
   if (inputNormals && par.FieldWidth >= 0)
   {
+    std::int64_t away = 0;
+    for (std::int64_t f = 0; f < F; ++f)
+      away += polyNormal[f].Dot(input[f]) < 0;
+    result.NoiseShare = static_cast<double>(away) / static_cast<double>(F);
+    const double noise = std::min(1.0, result.NoiseShare / 0.22);
     double width = par.FieldWidth;
     if (width == 0)
-    {
-      std::int64_t away = 0;
-      for (std::int64_t f = 0; f < F; ++f)
-        away += polyNormal[f].Dot(input[f]) < 0;
-      result.NoiseShare = static_cast<double>(away) / static_cast<double>(F);
       width = 1.0 + 1.5 * std::min(1.5, result.NoiseShare / 0.22);
-    }
     result.FieldWidth = width;
     std::vector<int> steps(F, -1);
     std::vector<std::int64_t> queue;
@@ -723,6 +724,18 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
         // search (measured on organic volumes, whose bands cover more than
         // half the surface).
         data[f] = steps[f] >= 0 && AngleDegrees(out[f], input[f]) <= 60 ? out[f] : input[f];
+        // Away from the lines and from AT's band, AT's u has averaged the
+        // noise over its whole smooth part, the Gaussian only over its
+        // width; on a clean surface u is flatter than the surface (AT's
+        // smoothing shrinks curvature) and the input is the better datum.
+        // The two are blended by the noise the surface shows.
+        if (steps[f] < 0 && !band[f] && noise > 0)
+        {
+          const Vec3 u(normals[3 * f], normals[3 * f + 1], normals[3 * f + 2]);
+          const Vec3 mix = input[f] * (1 - noise) + u.Unit() * noise;
+          if (mix.Norm() > 0)
+            data[f] = mix.Unit();
+        }
         const int r = result.Region[f];
         if (steps[f] >= 0 && r >= 0 && !sideQuadrics.empty() && sideQuadrics[r].Valid &&
           std::abs(sideQuadrics[r].Distance(centre[f])) <= meanEdge2)

@@ -50,7 +50,9 @@
 //    The line runs where the two sides' faces meet: one staircase line.
 // 7. The output field (dgSharpFeaturesField.h): a twiced Gaussian mean of
 //    the input normals (the side normals near a line; with QuadricSides,
-//    the normal of a side that is a quadric to within FitResidual) over
+//    the normal of a side that is a quadric to within FitResidual; away
+//    from the lines and AT's band, the input blended with AT's u by the
+//    noise share, min(1, NoiseShare / 0.22)) over
 //    the faces on the same side of every kept line, as wide as the noise
 //    the surface shows calls for (FieldWidth).
 //

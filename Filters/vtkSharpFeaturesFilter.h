@@ -36,9 +36,10 @@
  *   line rather than across the width of a fillet (MinimumTurnShare);
  * - the feature lines are the edges between faces of different regions;
  * - the output normals are a twiced Gaussian mean of the input normals
- *   (the side normals within SearchDepth of a line) over the faces on the
- *   same side of every kept line, as wide as the noise the surface shows
- *   calls for (FieldWidth).
+ *   (the side normals within SearchDepth of a line; away from the lines
+ *   and AT's band, the input blended with AT's normals as much as the
+ *   surface is noisy) over the faces on the same side of every kept line,
+ *   as wide as the noise the surface shows calls for (FieldWidth).
  *
  * Input: a vtkPolyData with polygons, a cell normal field (array 0 of
  * SetInputArrayToProcess, default "ATNormals") and a point feature indicator
