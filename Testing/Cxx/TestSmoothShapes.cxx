@@ -105,19 +105,19 @@ TEST_P(SmoothShapes, NoInventedFeaturesNeverWorseThanTheInput)
     if (fillet)
     {
       // Fillets at k = 0.3 meet the line and "worse" targets (radius 4,
-      // below the 6 voxels under noise: 0.42-0.52 % worse at 64^3).
+      // below the 6 voxels under noise: 0.48-0.62 % worse at 64^3).
       // The mean is below 0.6 times the input's except on the tightest
-      // ones at 64^3: radius 6 0.64-0.65 (a Gaussian of the input normals of
-      // any width does no better than 0.64 there: the input's own error on
-      // the fillets is mostly its bias; widths 1.5-4 measured) and radius 4 0.79 (0.63-0.65 at
-      // 128^3).
+      // ones at 64^3: radius 6 0.61-0.63 (a Gaussian of the input normals of
+      // any width does no better than 0.64 there, AT's u blended in 0.61:
+      // the input's own error on the fillets is mostly its bias; widths
+      // 1.5-4 measured) and radius 4 0.74-0.75 (0.52 at 128^3).
       if (name == "fillet4")
       {
-        b.Ratio = 0.85;
+        b.Ratio = 0.8;
         b.Worse = 1.0;
       }
       if (name == "fillet6" && n == 64)
-        b.Ratio = 0.7;
+        b.Ratio = 0.67;
     }
     EXPECT_LE(noisy.FeaturesPer1000, b.Features) << seed;
     EXPECT_LE(noisy.WorseShare, b.Worse) << seed;
