@@ -12,7 +12,7 @@
 //          [--min-region M] [--angle DEG] [--strong-angle DEG] [--planar-angle DEG] [--edge-angle DEG] [--beta B]
 //          [--residual R] [--fit 0|1] [--passes P] [--vote-depth D]
 //          [--threshold T] [--second-pass 0|1] [--curved 0|1] [--quadric 0|1] [--quadric-merge F] [--quadric-distance D]
-//          [--corner-depth D] [--turn-share S] [--field-width W (0: from the noise)]
+//          [--corner-depth D] [--turn-share S] [--field-width W (0: from the noise)] [--undo-blur 0|1]
 // DG_ATCACHE=DIR keeps AT's output per case in DIR and reuses it (then only
 // the stage runs, and the II and AT lines are not printed): parameter
 // studies of the stage alone.
@@ -313,6 +313,7 @@ int main(int argc, char* argv[])
   double threshold = 0.5, edgeAngle = 10;
   int islands = 8, passes = 2, voteDepth = 2, fit = 1, curved = 1, quadric = 1;
   double beta = 0.2, residual = 0.3, cornerDepth = 0.6, turnShare = 0.5, fieldWidth = 0;
+  int undoBlur = 1;
   bool secondPass = false;
   for (int a = 1; a + 1 < argc; a += 2)
   {
@@ -385,6 +386,8 @@ int main(int argc, char* argv[])
       turnShare = std::stod(v);
     else if (k == "--field-width")
       fieldWidth = std::stod(v);
+    else if (k == "--undo-blur")
+      undoBlur = std::stoi(v);
     else
     {
       std::fprintf(stderr, "unknown option %s\n", k.c_str());
@@ -415,6 +418,7 @@ int main(int argc, char* argv[])
     sharp->SetCornerDepth(cornerDepth);
     sharp->SetMinimumTurnShare(turnShare);
     sharp->SetFieldWidth(fieldWidth);
+    sharp->SetUndoInputBlur(undoBlur != 0);
   };
   for (int n : sizes)
     for (const auto& name : shapes)

@@ -54,7 +54,10 @@
 //    from the lines and AT's band, the input blended with AT's u by the
 //    noise share, min(1, NoiseShare / 0.22)) over
 //    the faces on the same side of every kept line, as wide as the noise
-//    the surface shows calls for (FieldWidth).
+//    the surface shows calls for (FieldWidth). On a clean surface the
+//    data away from the lines first undo the input's own blur
+//    (UndoInputBlur: one Van Cittert step with a Gaussian of 0.375
+//    InputRadius), and the Gaussian is then at least 2 edges wide.
 //
 // Plain C++ on a polygon mesh in offsets/connectivity form (vtkCellArray's
 // layout), testable without a pipeline.
@@ -100,6 +103,8 @@ struct SharpFeatureParameters
                                  // this share of their angle 4.5-9.5 edges out is a bend
   double FieldWidth = 0.0;   // edge lengths: the output field's Gaussian; 0: from the noise the
                              // surface shows; < 0: no field (the side and region normals as they are)
+  bool UndoInputBlur = true; // the field's data undo the input's blur over 0.375 InputRadius, with a
+                             // gain (1 - noise gauge)^2 (1 on a clean surface, 0 at k = 0.3)
 };
 
 struct SharpFeatureResult

@@ -86,7 +86,8 @@ private:
 // (dgSharpFeaturesField.h).
 void Convolve(const std::vector<std::int64_t>& ptr, const std::vector<std::int64_t>& next,
   const Tiles& tiles, const std::vector<Vec3>& centre, const std::vector<Vec3>& data,
-  double width, const std::vector<Vec3>& in, std::vector<Vec3>& out)
+  double width, const std::vector<Vec3>& in, std::vector<Vec3>& out,
+  const std::vector<char>* want = nullptr)
 {
   const std::int64_t F = static_cast<std::int64_t>(centre.size());
   const std::int64_t T = static_cast<std::int64_t>(tiles.Ptr.size()) - 1;
@@ -118,7 +119,7 @@ void Convolve(const std::vector<std::int64_t>& ptr, const std::vector<std::int64
       for (std::int64_t i = first; i < tiles.Ptr[t + 1]; ++i)
       {
         const std::int64_t seed = tiles.Faces[i];
-        if (s.Done[i - first])
+        if (s.Done[i - first] || (want && !(*want)[seed]))
           continue;
         // One part of the tile: the faces reached from seed without crossing
         // a crease (a stamp per tile and part: t F + seed).
@@ -155,25 +156,40 @@ void Convolve(const std::vector<std::int64_t>& ptr, const std::vector<std::int64
           if (s.Stamp[f] != stamp)
             continue; // another part of the tile
           s.Done[j - first] = 1;
-          Vec3 all;
-          for (std::size_t h = 0; h < q; ++h)
-          {
-            const Vec3 d = s.Centre[h] - centre[f];
-            s.Weight[h] = gauss(d.Dot(d));
-            all += s.Data[h] * s.Weight[h];
-          }
+          if (want && !(*want)[f])
+            continue;
           // The faces on f's side of a thin part: those whose data lie
           // within 90 degrees of f's, unless f's own datum is the odd one
           // out (a noise pit's faces, whose input points across the
           // surface), where the mean of all reached faces says where f faces.
-          const Vec3 reference = data[f].Dot(all) >= 0 ? data[f] : all;
-          Vec3 sum;
+          // One pass sums both; the odd ones out take a second.
+          Vec3 all, sum;
           double weights = 0;
+          const Vec3& own = data[f];
           for (std::size_t h = 0; h < q; ++h)
           {
-            const double w = s.Data[h].Dot(reference) >= 0 ? s.Weight[h] : 0.0;
-            sum += s.In[h] * w;
-            weights += w;
+            const Vec3 d = s.Centre[h] - centre[f];
+            const double w = gauss(d.Dot(d));
+            s.Weight[h] = w;
+            if (w == 0)
+              continue; // beyond the cut: about half the tile's reach
+            all += s.Data[h] * w;
+            if (s.Data[h].Dot(own) >= 0)
+            {
+              sum += s.In[h] * w;
+              weights += w;
+            }
+          }
+          if (own.Dot(all) < 0)
+          {
+            sum = Vec3();
+            weights = 0;
+            for (std::size_t h = 0; h < q; ++h)
+            {
+              const double w = s.Data[h].Dot(all) >= 0 ? s.Weight[h] : 0.0;
+              sum += s.In[h] * w;
+              weights += w;
+            }
           }
           out[f] = weights > 0 ? sum * (1.0 / weights) : in[f];
         }
@@ -182,17 +198,12 @@ void Convolve(const std::vector<std::int64_t>& ptr, const std::vector<std::int64
   });
 }
 
-} // namespace
-
-bool SmoothFieldWithinSides(const FaceGraph& graph, const std::vector<char>& crease,
-  const std::vector<Vec3>& centre, const std::vector<Vec3>& data, double width,
-  std::vector<Vec3>& normals)
+// The faces next to each face across an edge that is not a crease.
+void Neighbours(const FaceGraph& graph, const std::vector<char>& crease, std::int64_t F,
+  std::vector<std::int64_t>& ptr, std::vector<std::int64_t>& next)
 {
-  const std::int64_t F = static_cast<std::int64_t>(centre.size());
-  if (!(width > 0))
-    return false;
-  // The faces next to each face across an edge that is not a crease.
-  std::vector<std::int64_t> ptr(F + 1, 0), next;
+  ptr.assign(F + 1, 0);
+  next.clear();
   next.reserve(4 * F);
   for (std::int64_t f = 0; f < F; ++f)
   {
@@ -206,12 +217,73 @@ bool SmoothFieldWithinSides(const FaceGraph& graph, const std::vector<char>& cre
     }
     ptr[f + 1] = static_cast<std::int64_t>(next.size());
   }
+}
+
+} // namespace
+
+bool UndoBlurWithinSides(const FaceGraph& graph, const std::vector<char>& crease,
+  const std::vector<Vec3>& centre, const std::vector<Vec3>& data, double width, double gain,
+  std::vector<Vec3>& normals, const std::vector<char>* where)
+{
+  const std::int64_t F = static_cast<std::int64_t>(centre.size());
+  if (!(width > 0))
+    return false;
+  std::vector<std::int64_t> ptr, next;
+  Neighbours(graph, crease, F, ptr, next);
+  std::vector<Vec3> blurred(F);
+  Convolve(ptr, next, MakeTiles(centre, width), centre, data, width, data, blurred, where);
+  normals.resize(F);
+  vtkSMPTools::For(0, F, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t f = begin; f < end; ++f)
+    {
+      const Vec3 d = data[f] + (data[f] - blurred[f].Unit()) * gain;
+      normals[f] = (!where || (*where)[f]) && d.Norm() > 0 ? d.Unit() : data[f];
+    }
+  });
+  return true;
+}
+
+bool SmoothFieldWithinSides(const FaceGraph& graph, const std::vector<char>& crease,
+  const std::vector<Vec3>& centre, const std::vector<Vec3>& data, double width,
+  std::vector<Vec3>& normals, const std::vector<char>* where, double edge)
+{
+  const std::int64_t F = static_cast<std::int64_t>(centre.size());
+  if (!(width > 0))
+    return false;
+  std::vector<std::int64_t> ptr, next;
+  Neighbours(graph, crease, F, ptr, next);
   const Tiles tiles = MakeTiles(centre, 1.0 * width);
-  std::vector<Vec3> first(F), residual(F), second(F);
-  Convolve(ptr, next, tiles, centre, data, width, data, first);
+  // With a mask, the first pass covers the masked faces and every face a
+  // few reaches of steps around them: the second pass at a masked face
+  // reads the first's residual within its reach. (A face the search
+  // reaches by a longer walk has no residual: its correction is left out.)
+  std::vector<char> around;
+  if (where)
+  {
+    around = *where;
+    std::vector<std::int64_t> front, grown;
+    for (std::int64_t f = 0; f < F; ++f)
+      if (around[f])
+        front.push_back(f);
+    const int depth = static_cast<int>(std::ceil(3.0 * width / std::max(1e-12, edge))) + 2;
+    for (int d = 0; d < depth && !front.empty(); ++d)
+    {
+      grown.clear();
+      for (std::int64_t f : front)
+        for (std::int64_t k = ptr[f]; k < ptr[f + 1]; ++k)
+          if (!around[next[k]])
+          {
+            around[next[k]] = 1;
+            grown.push_back(next[k]);
+          }
+      front.swap(grown);
+    }
+  }
+  std::vector<Vec3> first(data), residual(F), second(F);
+  Convolve(ptr, next, tiles, centre, data, width, data, first, where ? &around : nullptr);
   for (std::int64_t f = 0; f < F; ++f)
     residual[f] = data[f] - first[f];
-  Convolve(ptr, next, tiles, centre, data, width, residual, second);
+  Convolve(ptr, next, tiles, centre, data, width, residual, second, where);
   normals.resize(F);
   for (std::int64_t f = 0; f < F; ++f)
   {

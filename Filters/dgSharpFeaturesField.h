@@ -31,10 +31,23 @@ namespace sharp
 /// graph: the faces' edges; crease: per graph edge, nonzero where the field
 /// must not pass; centre and data: per face (data unit or zero); width in
 /// the centres' units. normals gets one unit vector per face (the data where
-/// the mean is zero). False when width is not positive.
+/// the mean is zero). where, when given, marks the faces whose normals are
+/// needed (the others get theirs only where that costs nothing; edge: the
+/// mean edge length, which sizes the margin the first pass needs). False
+/// when width is not positive.
 bool SmoothFieldWithinSides(const FaceGraph& graph, const std::vector<char>& crease,
   const std::vector<Vec3>& centre, const std::vector<Vec3>& data, double width,
-  std::vector<Vec3>& normals);
+  std::vector<Vec3>& normals, const std::vector<char>* where = nullptr, double edge = 1.0);
+
+/// One Van Cittert step against a blur of the data by the same faces'
+/// Gaussian of standard deviation `width` (not twiced): normals gets
+/// unit(d + gain (d - unit(G d))) on the faces `where` marks (every face
+/// when null) and the data elsewhere. Where the data are a normal field
+/// blurred by about that Gaussian (an estimator's ball), the step takes out
+/// the blur's leading term. False when width is not positive.
+bool UndoBlurWithinSides(const FaceGraph& graph, const std::vector<char>& crease,
+  const std::vector<Vec3>& centre, const std::vector<Vec3>& data, double width, double gain,
+  std::vector<Vec3>& normals, const std::vector<char>* where = nullptr);
 
 } // namespace sharp
 } // namespace dg

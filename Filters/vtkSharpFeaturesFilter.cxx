@@ -109,6 +109,7 @@ int vtkSharpFeaturesFilter::Execute(vtkPolyData* input, vtkPolyData* output, vtk
   par.CornerDepth = this->CornerDepth;
   par.MinimumTurnShare = this->MinimumTurnShare;
   par.FieldWidth = this->FieldWidth;
+  par.UndoInputBlur = this->UndoInputBlur;
   std::string problem;
   if (!(par.FeatureThreshold > 0 && par.FeatureThreshold < 1))
     problem += " FeatureThreshold must be in (0, 1).";
@@ -378,6 +379,7 @@ void vtkSharpFeaturesFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "CornerDepth: " << this->CornerDepth << "\n";
   os << indent << "MinimumTurnShare: " << this->MinimumTurnShare << "\n";
   os << indent << "FieldWidth: " << this->FieldWidth << "\n";
+  os << indent << "UndoInputBlur: " << (this->UndoInputBlur ? "on" : "off") << "\n";
   os << indent << "NumberOfCreases: " << this->NumberOfCreases << "\n";
   os << indent << "NumberOfBends: " << this->NumberOfBends << "\n";
   os << indent << "NoiseShare: " << this->NoiseShare << "\n";

@@ -39,7 +39,8 @@
  *   (the side normals within SearchDepth of a line; away from the lines
  *   and AT's band, the input blended with AT's normals as much as the
  *   surface is noisy) over the faces on the same side of every kept line,
- *   as wide as the noise the surface shows calls for (FieldWidth).
+ *   as wide as the noise the surface shows calls for (FieldWidth); on a
+ *   clean surface they first undo the input's own blur (UndoInputBlur).
  *
  * Input: a vtkPolyData with polygons, a cell normal field (array 0 of
  * SetInputArrayToProcess, default "ATNormals") and a point feature indicator
@@ -362,12 +363,30 @@ public:
    * kept lines (twiced, cut at 2.5 widths). Default 0: from the noise the
    * surface shows, the share s of faces turned more than 90 degrees from
    * their input normal (0 clean, 0.22 at the paper's k = 0.3): width =
-   * 1 + 1.5 min(1.5, s / 0.22), 1 on a clean surface, 2.5 at k = 0.3. > 0: that
-   * width (at most 20). < 0: no field (the side and region normals as they
-   * are).
+   * max(2, 1 + 1.5 min(1.5, s / 0.22)), 2 on a clean surface, 2.5 at k =
+   * 0.3 (max(1, ...) with UndoInputBlur off). > 0: that width (at most
+   * 20). < 0: no field (the side and region normals as they are).
    */
   vtkSetMacro(FieldWidth, double);
   vtkGetMacro(FieldWidth, double);
+  ///@}
+
+  ///@{
+  /**
+   * Whether the output field's data undo the input's own blur first
+   * (default on). The input estimator averages the surface's normals over
+   * its ball, which leans them towards the more curved side wherever the
+   * curvature changes (where a fillet meets a plane, II with radius 4 is
+   * 4-6 degrees off). Away from the lines, each datum d becomes
+   * d + g (d - G d), G a Gaussian of 0.375 InputRadius over the faces on
+   * its side, g = (1 - min(1, s / 0.22))^2 from the noise share s: 1 on a
+   * clean surface, 0 at the paper's k = 0.3, where the data are mostly
+   * Ambrosio-Tortorelli's normals and the step would sharpen their
+   * terraces.
+   */
+  vtkSetMacro(UndoInputBlur, bool);
+  vtkGetMacro(UndoInputBlur, bool);
+  vtkBooleanMacro(UndoInputBlur, bool);
   ///@}
 
   /// Lines the crease test kept and merged, the noise share and the field
@@ -442,6 +461,7 @@ protected:
   double CornerDepth = 0.6;
   double MinimumTurnShare = 0.5;
   double FieldWidth = 0.0;
+  bool UndoInputBlur = true;
   int NumberOfCreases = 0;
   double CreaseTestTime = 0;
   double FieldTime = 0;

@@ -76,13 +76,14 @@ TEST_P(SmoothShapes, NoInventedFeaturesNeverWorseThanTheInput)
   Bounds c;
   // Clean fillets of radius 4 (and 6 at 64^3): II (r = 4) itself is
   // 2.5-3.3 degrees off on average and 6.4-8.8 at its 95th percentile there,
-  // and the output keeps most of that (measured 1.96-2.90 and 5.99-8.68);
-  // the p95 target cannot be reached from that input (docs/quality.md). The
-  // bound: the input's own figures plus half a degree.
+  // most of it its lean towards the fillet where it meets a plane. The
+  // output undoes part of that blur (measured 1.92-2.79 and 5.24-8.16,
+  // 0.5-0.65 and 0.6-1.15 degrees below the input) but not enough for the
+  // p95 target (docs/quality.md). The bound: never worse than the input.
   if (name == "fillet4" || (name == "fillet6" && n == 64))
   {
-    c.Mean = clean.InputMean + 0.5;
-    c.P95 = clean.InputP95 + 0.5;
+    c.Mean = clean.InputMean;
+    c.P95 = clean.InputP95;
   }
   EXPECT_LE(clean.FeaturesPer1000, c.Features);
   EXPECT_LE(clean.WorseShare, c.Worse);
