@@ -118,7 +118,7 @@ TEST(SharpFeaturesField, TwicedGaussianMatchesBruteForceAndItsMaskedForm)
   double worst = 0;
   for (std::size_t f = 0; f < F; ++f)
     worst = std::max(worst, Angle(normals[f], (first[f] + second[f]).Unit()));
-  // The stage's Gaussian is a table (1024 bins, linear): within 1e-3 degrees.
+  // The stage sums in single precision with a polynomial exponential.
   EXPECT_LT(worst, 1e-3);
 
   // Only the faces near the junction: the same normals there.
@@ -137,7 +137,8 @@ TEST(SharpFeaturesField, TwicedGaussianMatchesBruteForceAndItsMaskedForm)
       ++checked;
     }
   EXPECT_GT(checked, 50);
-  EXPECT_LT(differ, 1e-9);
+  // Single-precision sums in another order (each search's own origin).
+  EXPECT_LT(differ, 1e-5);
 }
 
 TEST(SharpFeaturesField, UndoingTheBlurRestoresTheFilletJunction)
