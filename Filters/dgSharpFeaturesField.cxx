@@ -157,7 +157,7 @@ void Convolve(const std::vector<std::int64_t>& ptr, const std::vector<std::int64
             }
           }
         // The part's faces in contiguous arrays: every face of the part reads
-        // them all. Padding: far away, zero weight.
+        // them all. The padding lies far away: zero weight.
         const std::size_t q = s.Queue.size();
         const std::size_t padded = (q + Lanes - 1) / Lanes * Lanes;
         const Vec3 origin = centre[seed];
@@ -198,7 +198,6 @@ void Convolve(const std::vector<std::int64_t>& ptr, const std::vector<std::int64
                       oz = static_cast<float>(data[f].z);
           float ax[Lanes] = {}, ay[Lanes] = {}, az[Lanes] = {}, sx[Lanes] = {}, sy[Lanes] = {},
                 sz[Lanes] = {}, sw[Lanes] = {};
-          // Raw pointers that the compiler may take as unaliased.
           const float* X = s.X.data();
           const float* Y = s.Y.data();
           const float* Z = s.Z.data();
@@ -208,8 +207,8 @@ void Convolve(const std::vector<std::int64_t>& ptr, const std::vector<std::int64
           const float* IX = s.IX.data();
           const float* IY = s.IY.data();
           const float* IZ = s.IZ.data();
-          float* __restrict W = s.W.data();
-          float* __restrict M = s.M.data();
+          float* W = s.W.data();
+          float* M = s.M.data();
           Weigh(X, Y, Z, DX, DY, DZ, fx, fy, fz, ox, oy, oz, half, reach2, padded, W, M);
           for (std::size_t b = 0; b < padded; b += Lanes)
             for (int l = 0; l < Lanes; ++l)
