@@ -788,7 +788,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       // at twice that, linearly in face steps.
       std::vector<char> close(F);
       for (std::int64_t f = 0; f < F; ++f)
-        close[f] = steps[f] >= 0 && steps[f] < 2 * par.SearchDepth;
+        close[f] = steps[f] >= 0 && steps[f] < std::max(1, 2 * par.SearchDepth);
       std::vector<Vec3> narrow;
       SmoothFieldWithinSides(graph, crease, centre, data, nearWidth * meanEdge2, narrow, &close, meanEdge2);
       vtkSMPTools::For(0, F, [&](std::int64_t begin, std::int64_t end) {
