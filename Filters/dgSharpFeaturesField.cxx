@@ -161,8 +161,10 @@ void Convolve(const std::vector<std::int64_t>& ptr, const std::vector<std::int64
         const std::size_t q = s.Queue.size();
         const std::size_t padded = (q + Lanes - 1) / Lanes * Lanes;
         const Vec3 origin = centre[seed];
-        for (auto* v : { &s.X, &s.Y, &s.Z, &s.DX, &s.DY, &s.DZ, &s.IX, &s.IY, &s.IZ, &s.W, &s.M })
+        for (auto* v : { &s.X, &s.Y, &s.Z, &s.DX, &s.DY, &s.DZ, &s.IX, &s.IY, &s.IZ })
           v->assign(padded, 0.0f);
+        s.W.resize(padded); // written by Weigh for every face
+        s.M.resize(padded);
         for (std::size_t h = q; h < padded; ++h)
           s.X[h] = 1e18f;
         for (std::size_t h = 0; h < q; ++h)
@@ -178,6 +180,10 @@ void Convolve(const std::vector<std::int64_t>& ptr, const std::vector<std::int64
           s.IY[h] = static_cast<float>(in[g].y);
           s.IZ[h] = static_cast<float>(in[g].z);
         }
+        const float *X = s.X.data(), *Y = s.Y.data(), *Z = s.Z.data();
+        const float *DX = s.DX.data(), *DY = s.DY.data(), *DZ = s.DZ.data();
+        const float *IX = s.IX.data(), *IY = s.IY.data(), *IZ = s.IZ.data();
+        float *W = s.W.data(), *M = s.M.data();
         for (std::int64_t j = i; j < tiles.Ptr[t + 1]; ++j)
         {
           const std::int64_t f = tiles.Faces[j];
@@ -198,17 +204,6 @@ void Convolve(const std::vector<std::int64_t>& ptr, const std::vector<std::int64
                       oz = static_cast<float>(data[f].z);
           float ax[Lanes] = {}, ay[Lanes] = {}, az[Lanes] = {}, sx[Lanes] = {}, sy[Lanes] = {},
                 sz[Lanes] = {}, sw[Lanes] = {};
-          const float* X = s.X.data();
-          const float* Y = s.Y.data();
-          const float* Z = s.Z.data();
-          const float* DX = s.DX.data();
-          const float* DY = s.DY.data();
-          const float* DZ = s.DZ.data();
-          const float* IX = s.IX.data();
-          const float* IY = s.IY.data();
-          const float* IZ = s.IZ.data();
-          float* W = s.W.data();
-          float* M = s.M.data();
           Weigh(X, Y, Z, DX, DY, DZ, fx, fy, fz, ox, oy, oz, half, reach2, padded, W, M);
           for (std::size_t b = 0; b < padded; b += Lanes)
             for (int l = 0; l < Lanes; ++l)
@@ -236,9 +231,8 @@ void Convolve(const std::vector<std::int64_t>& ptr, const std::vector<std::int64
             weights = 0;
             for (std::size_t h = 0; h < q; ++h)
             {
-              const Vec3 d(s.DX[h], s.DY[h], s.DZ[h]);
-              const double w = d.Dot(all) >= 0 ? s.W[h] : 0.0;
-              sum += Vec3(s.IX[h], s.IY[h], s.IZ[h]) * w;
+              const double w = Vec3(DX[h], DY[h], DZ[h]).Dot(all) >= 0 ? W[h] : 0.0;
+              sum += Vec3(IX[h], IY[h], IZ[h]) * w;
               weights += w;
             }
           }
