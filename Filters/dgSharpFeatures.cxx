@@ -769,6 +769,12 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
     // the step would sharpen, so its gain falls as the square of the noise
     // gauge (linear cost spheres at k = 0.2 up to 0.17 degrees).
     const auto fieldStart = std::chrono::steady_clock::now();
+    // The undo step and the field's two passes read the same searches
+    // when the step's Gaussian reaches no farther than the field's.
+    FieldSearches searches;
+    if (!FindFieldSearches(graph, crease, centre, width * meanEdge2, searches))
+      return fail("the output field needs a positive width, fewer than 2^32 faces and a surface "
+                  "narrower than 2^21 field widths");
     const double gain = (1.0 - noise) * (1.0 - noise);
     if (par.UndoInputBlur && gain > 0 && par.InputRadius > 0)
     {
@@ -777,11 +783,10 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
         away[f] = !nearLine(f);
       std::vector<Vec3> sharpened;
       UndoBlurWithinSides(graph, crease, centre, data, 0.375 * par.InputRadius * meanEdge2, gain,
-        sharpened, &away);
+        sharpened, &away, &searches);
       data.swap(sharpened);
     }
-    if (!SmoothFieldWithinSides(graph, crease, centre, data, width * meanEdge2, out))
-      return fail("the output field needs a positive width");
+    SmoothFieldWithinSides(graph, crease, centre, data, width * meanEdge2, out, nullptr, 1.0, &searches);
     if (nearWidth != width)
     {
       // From the near width within SearchDepth of a line to the full width
@@ -790,7 +795,8 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       for (std::int64_t f = 0; f < F; ++f)
         close[f] = steps[f] >= 0 && steps[f] < std::max(1, 2 * par.SearchDepth);
       std::vector<Vec3> narrow;
-      SmoothFieldWithinSides(graph, crease, centre, data, nearWidth * meanEdge2, narrow, &close, meanEdge2);
+      SmoothFieldWithinSides(
+        graph, crease, centre, data, nearWidth * meanEdge2, narrow, &close, meanEdge2, &searches);
       vtkSMPTools::For(0, F, [&](std::int64_t begin, std::int64_t end) {
         for (std::int64_t f = begin; f < end; ++f)
         {

@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstdint>
 #include <numeric>
-#include <tuple>
 
 namespace dg
 {
@@ -16,47 +15,16 @@ namespace sharp
 namespace
 {
 
-// Faces grouped in cubes: one search per cube (and per
-// part of it that creases separate) finds every face any of its faces can
-// reach, instead of one search per face (fandisk 256^3 at k = 0.3, width
-// 2.5: 10.3-11.2 s with a search per face, docs/sharp-features.md has the
-// figure with the cubes). Cubes two widths wide: with the weights in vector
-// registers the searches are most of the cost (octa-flower 512^3, clean:
-// the field 1.41 s with cubes one width wide, 1.06 s two, 0.99 s three).
-struct Tiles
+// Per thread: the search that last reached a face, and the part's faces
+// gathered for the weights' loop.
+struct Scratch
 {
-  std::vector<std::int64_t> Ptr;   // faces of tile t: Faces[Ptr[t] .. Ptr[t + 1])
-  std::vector<std::int64_t> Faces;
-};
-
-Tiles MakeTiles(const std::vector<Vec3>& centre, double size)
-{
-  const std::int64_t F = static_cast<std::int64_t>(centre.size());
-  std::vector<std::tuple<std::int64_t, std::int64_t, std::int64_t>> key(F);
-  for (std::int64_t f = 0; f < F; ++f)
-    key[f] = { static_cast<std::int64_t>(std::floor(centre[f].x / size)),
-      static_cast<std::int64_t>(std::floor(centre[f].y / size)),
-      static_cast<std::int64_t>(std::floor(centre[f].z / size)) };
-  Tiles t;
-  t.Faces.resize(F);
-  std::iota(t.Faces.begin(), t.Faces.end(), 0);
-  std::stable_sort(t.Faces.begin(), t.Faces.end(),
-    [&](std::int64_t a, std::int64_t b) { return key[a] < key[b]; });
-  for (std::int64_t i = 0; i < F; ++i)
-    if (i == 0 || key[t.Faces[i]] != key[t.Faces[i - 1]])
-      t.Ptr.push_back(i);
-  t.Ptr.push_back(F);
-  return t;
-}
-
-struct Search
-{
-  std::vector<std::int64_t> Stamp; // the search that last reached a face
-  std::vector<std::int64_t> Queue;
-  std::vector<char> Done; // per face of the tile: its part is done
+  std::vector<std::uint32_t> Stamp; // the search that last reached a face
+  std::uint32_t Searches = 0;
+  std::vector<std::uint32_t> Queue;
   // The part's faces, single precision and one array per coordinate
-  // (centres relative to the part's seed), padded to whole blocks: the
-  // weights' loop runs in vector registers.
+  // (centres relative to the part's first face), padded to whole blocks:
+  // the weights' loop runs in vector registers.
   std::vector<float> X, Y, Z, DX, DY, DZ, IX, IY, IZ, W, M;
 };
 
@@ -101,66 +69,38 @@ void Weigh(const float* __restrict X, const float* __restrict Y, const float* __
 }
 
 // out[f] = the Gaussian-weighted mean of in over the faces f's side reaches
-// (dgSharpFeaturesField.h).
-void Convolve(const std::vector<std::int64_t>& ptr, const std::vector<std::int64_t>& next,
-  const Tiles& tiles, const std::vector<Vec3>& centre, const std::vector<Vec3>& data,
-  double width, const std::vector<Vec3>& in, std::vector<Vec3>& out,
+// (dgSharpFeaturesField.h), for the faces `want` marks (every face the
+// searches cover when null); the others keep out's value.
+void Convolve(const FieldSearches& searches, const std::vector<Vec3>& centre,
+  const std::vector<Vec3>& data, double width, const std::vector<Vec3>& in, std::vector<Vec3>& out,
   const std::vector<char>* want = nullptr)
 {
-  const std::int64_t F = static_cast<std::int64_t>(centre.size());
-  const std::int64_t T = static_cast<std::int64_t>(tiles.Ptr.size()) - 1;
-  const double reach = 2.5 * width;
+  const std::int64_t T = static_cast<std::int64_t>(searches.Cubes.size());
+  const double reach = std::min(2.5 * width, searches.Reach);
   const float reach2 = static_cast<float>(reach * reach);
   const float half = static_cast<float>(0.5 / (width * width));
-  vtkSMPThreadLocal<Search> local;
+  vtkSMPThreadLocal<Scratch> local;
   vtkSMPTools::For(0, T, [&](std::int64_t t0, std::int64_t t1) {
-    Search& s = local.Local();
-    if (s.Stamp.empty())
-      s.Stamp.assign(F, -1);
+    Scratch& s = local.Local();
     for (std::int64_t t = t0; t < t1; ++t)
     {
-      // The tile's box grown by the reach bounds what its faces can reach.
-      Vec3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
-      for (std::int64_t i = tiles.Ptr[t]; i < tiles.Ptr[t + 1]; ++i)
+      const FieldSearches::Cube& cube = searches.Cubes[t];
+      const std::int64_t first = searches.TilePtr[t];
+      const std::int64_t count = searches.TilePtr[t + 1] - first;
+      const std::int64_t parts = static_cast<std::int64_t>(cube.PartStart.size()) - 1;
+      for (std::int64_t p = 0; p < parts; ++p)
       {
-        const Vec3& c = centre[tiles.Faces[i]];
-        lo = Vec3(std::min(lo.x, c.x), std::min(lo.y, c.y), std::min(lo.z, c.z));
-        hi = Vec3(std::max(hi.x, c.x), std::max(hi.y, c.y), std::max(hi.z, c.z));
-      }
-      auto near = [&](const Vec3& c) {
-        const double dx = std::max({ 0.0, lo.x - c.x, c.x - hi.x });
-        const double dy = std::max({ 0.0, lo.y - c.y, c.y - hi.y });
-        const double dz = std::max({ 0.0, lo.z - c.z, c.z - hi.z });
-        return dx * dx + dy * dy + dz * dz <= reach * reach;
-      };
-      const std::int64_t first = tiles.Ptr[t];
-      s.Done.assign(tiles.Ptr[t + 1] - first, 0);
-      for (std::int64_t i = first; i < tiles.Ptr[t + 1]; ++i)
-      {
-        const std::int64_t seed = tiles.Faces[i];
-        if (s.Done[i - first] || (want && !(*want)[seed]))
+        bool needed = false;
+        for (std::int64_t j = 0; j < count && !needed; ++j)
+          needed = cube.Part[j] == p && (!want || (*want)[searches.TileFaces[first + j]]);
+        if (!needed)
           continue;
-        // One part of the tile: the faces reached from seed without crossing
-        // a crease (a stamp per tile and part: t F + seed).
-        const std::int64_t stamp = F * t + seed;
-        s.Queue.assign(1, seed);
-        s.Stamp[seed] = stamp;
-        for (std::size_t h = 0; h < s.Queue.size(); ++h)
-          for (std::int64_t k = ptr[s.Queue[h]]; k < ptr[s.Queue[h] + 1]; ++k)
-          {
-            const std::int64_t n = next[k];
-            if (s.Stamp[n] != stamp)
-            {
-              s.Stamp[n] = stamp;
-              if (near(centre[n]))
-                s.Queue.push_back(n);
-            }
-          }
         // The part's faces in contiguous arrays: every face of the part reads
         // them all. The padding lies far away: zero weight.
-        const std::size_t q = s.Queue.size();
+        const std::uint32_t* members = cube.Members.data() + cube.PartStart[p];
+        const std::size_t q = cube.PartStart[p + 1] - cube.PartStart[p];
         const std::size_t padded = (q + Lanes - 1) / Lanes * Lanes;
-        const Vec3 origin = centre[seed];
+        const Vec3 origin = centre[members[0]];
         for (auto* v : { &s.X, &s.Y, &s.Z, &s.DX, &s.DY, &s.DZ, &s.IX, &s.IY, &s.IZ })
           v->assign(padded, 0.0f);
         s.W.resize(padded); // written by Weigh for every face
@@ -169,7 +109,7 @@ void Convolve(const std::vector<std::int64_t>& ptr, const std::vector<std::int64
           s.X[h] = 1e18f;
         for (std::size_t h = 0; h < q; ++h)
         {
-          const std::int64_t g = s.Queue[h];
+          const std::int64_t g = members[h];
           s.X[h] = static_cast<float>(centre[g].x - origin.x);
           s.Y[h] = static_cast<float>(centre[g].y - origin.y);
           s.Z[h] = static_cast<float>(centre[g].z - origin.z);
@@ -184,13 +124,10 @@ void Convolve(const std::vector<std::int64_t>& ptr, const std::vector<std::int64
         const float *DX = s.DX.data(), *DY = s.DY.data(), *DZ = s.DZ.data();
         const float *IX = s.IX.data(), *IY = s.IY.data(), *IZ = s.IZ.data();
         float *W = s.W.data(), *M = s.M.data();
-        for (std::int64_t j = i; j < tiles.Ptr[t + 1]; ++j)
+        for (std::int64_t j = 0; j < count; ++j)
         {
-          const std::int64_t f = tiles.Faces[j];
-          if (s.Stamp[f] != stamp)
-            continue; // another part of the tile
-          s.Done[j - first] = 1;
-          if (want && !(*want)[f])
+          const std::int64_t f = searches.TileFaces[first + j];
+          if (cube.Part[j] != p || (want && !(*want)[f]))
             continue;
           // The faces on f's side of a thin part: those whose data lie
           // within 90 degrees of f's, unless f's own datum is the odd one
@@ -243,40 +180,188 @@ void Convolve(const std::vector<std::int64_t>& ptr, const std::vector<std::int64
   });
 }
 
-// The faces next to each face across an edge that is not a crease.
-void Neighbours(const FaceGraph& graph, const std::vector<char>& crease, std::int64_t F,
-  std::vector<std::int64_t>& ptr, std::vector<std::int64_t>& next)
+// Whether searches found for `reach` serve a Gaussian that reaches `need`:
+// far enough, and not so far that the weights' loop mostly reads faces
+// beyond the cut.
+bool Serves(const FieldSearches* searches, double need)
 {
-  ptr.assign(F + 1, 0);
-  next.clear();
-  next.reserve(4 * F);
-  for (std::int64_t f = 0; f < F; ++f)
-  {
+  return searches && searches->Reach >= need * (1 - 1e-12) && searches->Reach <= 2.0 * need;
+}
+
+} // namespace
+
+void SideNeighbours::Build(const FaceGraph& graph, const std::vector<char>& crease, std::int64_t F)
+{
+  this->Ptr.assign(F + 1, 0);
+  auto each = [&](std::int64_t f, auto&& visit) {
     for (std::int64_t j = graph.FaceEdgePtr[f]; j < graph.FaceEdgePtr[f + 1]; ++j)
     {
       const std::int64_t e = graph.FaceEdges[j];
       if (!crease[e])
         for (std::int64_t i = graph.EdgeFacePtr[e]; i < graph.EdgeFacePtr[e + 1]; ++i)
           if (graph.EdgeFaces[i] != f)
-            next.push_back(graph.EdgeFaces[i]);
+            visit(graph.EdgeFaces[i]);
     }
-    ptr[f + 1] = static_cast<std::int64_t>(next.size());
-  }
+  };
+  vtkSMPTools::For(0, F, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t f = begin; f < end; ++f)
+    {
+      std::int64_t n = 0;
+      each(f, [&](std::int64_t) { ++n; });
+      this->Ptr[f + 1] = n;
+    }
+  });
+  std::partial_sum(this->Ptr.begin(), this->Ptr.end(), this->Ptr.begin());
+  this->Next.resize(this->Ptr[F]);
+  vtkSMPTools::For(0, F, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t f = begin; f < end; ++f)
+    {
+      std::int64_t k = this->Ptr[f];
+      each(f, [&](std::int64_t g) { this->Next[k++] = static_cast<std::uint32_t>(g); });
+    }
+  });
 }
 
-} // namespace
+bool FindFieldSearches(const FaceGraph& graph, const std::vector<char>& crease,
+  const std::vector<Vec3>& centre, double width, FieldSearches& searches,
+  const std::vector<char>* where)
+{
+  const std::int64_t F = static_cast<std::int64_t>(centre.size());
+  if (!(width > 0) || F >= (std::int64_t(1) << 32))
+    return false;
+  // Cubes two widths wide: with the weights in vector registers the
+  // searches are most of a pass's cost (octa-flower 512^3, clean: the field
+  // 1.41 s with cubes one width wide, 1.06 s two, 0.99 s three); one search
+  // per cube and part, not per face (fandisk 256^3 at k = 0.3, width 2.5:
+  // 10.3-11.2 s with a search per face).
+  const double size = 2.0 * width;
+  // Each face's cube as one sortable key, 21 bits a coordinate (the
+  // surface's box in cubes of at least 2 edges: 2^21 of them would be a
+  // surface 4 million voxels wide).
+  Vec3 lo = centre.empty() ? Vec3() : centre[0], hi = lo;
+  for (const Vec3& c : centre)
+  {
+    lo = Vec3(std::min(lo.x, c.x), std::min(lo.y, c.y), std::min(lo.z, c.z));
+    hi = Vec3(std::max(hi.x, c.x), std::max(hi.y, c.y), std::max(hi.z, c.z));
+  }
+  const double span = std::max({ hi.x - lo.x, hi.y - lo.y, hi.z - lo.z }) / size;
+  if (!(span < (1 << 21) - 2))
+    return false;
+  auto cube = [&](double v, double origin) {
+    return static_cast<std::int64_t>(std::floor(v / size) - std::floor(origin / size));
+  };
+  std::vector<std::pair<std::int64_t, std::int64_t>> keyed(F);
+  vtkSMPTools::For(0, F, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t f = begin; f < end; ++f)
+      keyed[f] = { (cube(centre[f].x, lo.x) << 42) | (cube(centre[f].y, lo.y) << 21) |
+          cube(centre[f].z, lo.z),
+        f };
+  });
+  if (where)
+    keyed.erase(std::remove_if(keyed.begin(), keyed.end(),
+                  [&](const std::pair<std::int64_t, std::int64_t>& k) { return !(*where)[k.second]; }),
+      keyed.end());
+  std::sort(keyed.begin(), keyed.end());
+  const std::int64_t N = static_cast<std::int64_t>(keyed.size());
+  searches.TileFaces.resize(N);
+  searches.TilePtr.clear();
+  for (std::int64_t i = 0; i < N; ++i)
+  {
+    searches.TileFaces[i] = keyed[i].second;
+    if (i == 0 || keyed[i].first != keyed[i - 1].first)
+      searches.TilePtr.push_back(i);
+  }
+  searches.TilePtr.push_back(N);
+  searches.Reach = 2.5 * width;
+  const std::int64_t T = static_cast<std::int64_t>(searches.TilePtr.size()) - 1;
+  searches.Cubes.assign(T, FieldSearches::Cube());
+  if (!searches.Sides)
+  {
+    auto sides = std::make_shared<SideNeighbours>();
+    sides->Build(graph, crease, F);
+    searches.Sides = sides;
+  }
+  const std::vector<std::int64_t>& ptr = searches.Sides->Ptr;
+  const std::vector<std::uint32_t>& next = searches.Sides->Next;
+  const double reach = searches.Reach;
+  vtkSMPThreadLocal<Scratch> local;
+  vtkSMPTools::For(0, T, [&](std::int64_t t0, std::int64_t t1) {
+    Scratch& s = local.Local();
+    if (s.Stamp.empty())
+      s.Stamp.assign(F, 0);
+    for (std::int64_t t = t0; t < t1; ++t)
+    {
+      const std::int64_t first = searches.TilePtr[t];
+      const std::int64_t count = searches.TilePtr[t + 1] - first;
+      // The cube's box grown by the reach bounds what its faces can reach.
+      Vec3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
+      for (std::int64_t j = 0; j < count; ++j)
+      {
+        const Vec3& c = centre[searches.TileFaces[first + j]];
+        lo = Vec3(std::min(lo.x, c.x), std::min(lo.y, c.y), std::min(lo.z, c.z));
+        hi = Vec3(std::max(hi.x, c.x), std::max(hi.y, c.y), std::max(hi.z, c.z));
+      }
+      auto near = [&](const Vec3& c) {
+        const double dx = std::max({ 0.0, lo.x - c.x, c.x - hi.x });
+        const double dy = std::max({ 0.0, lo.y - c.y, c.y - hi.y });
+        const double dz = std::max({ 0.0, lo.z - c.z, c.z - hi.z });
+        return dx * dx + dy * dy + dz * dz <= reach * reach;
+      };
+      FieldSearches::Cube& cube = searches.Cubes[t];
+      cube.Part.assign(count, -1);
+      cube.PartStart.assign(1, 0);
+      for (std::int64_t i = 0; i < count; ++i)
+      {
+        const std::int64_t seed = searches.TileFaces[first + i];
+        if (cube.Part[i] >= 0)
+          continue;
+        // One part of the cube: the faces reached from seed without
+        // crossing a crease (fewer parts than faces: no stamp repeats).
+        const std::uint32_t stamp = ++s.Searches;
+        s.Queue.assign(1, static_cast<std::uint32_t>(seed));
+        s.Stamp[seed] = stamp;
+        for (std::size_t h = 0; h < s.Queue.size(); ++h)
+          for (std::int64_t k = ptr[s.Queue[h]]; k < ptr[s.Queue[h] + 1]; ++k)
+          {
+            const std::uint32_t n = next[k];
+            if (s.Stamp[n] != stamp)
+            {
+              s.Stamp[n] = stamp;
+              if (near(centre[n]))
+                s.Queue.push_back(n);
+            }
+          }
+        const std::int32_t part = static_cast<std::int32_t>(cube.PartStart.size()) - 1;
+        for (std::int64_t j = i; j < count; ++j)
+          if (s.Stamp[searches.TileFaces[first + j]] == stamp)
+            cube.Part[j] = part;
+        cube.Members.insert(cube.Members.end(), s.Queue.begin(), s.Queue.end());
+        cube.PartStart.push_back(static_cast<std::uint32_t>(cube.Members.size()));
+      }
+      cube.Members.shrink_to_fit();
+    }
+  });
+  return true;
+}
 
 bool UndoBlurWithinSides(const FaceGraph& graph, const std::vector<char>& crease,
   const std::vector<Vec3>& centre, const std::vector<Vec3>& data, double width, double gain,
-  std::vector<Vec3>& normals, const std::vector<char>* where)
+  std::vector<Vec3>& normals, const std::vector<char>* where, const FieldSearches* shared)
 {
   const std::int64_t F = static_cast<std::int64_t>(centre.size());
   if (!(width > 0))
     return false;
-  std::vector<std::int64_t> ptr, next;
-  Neighbours(graph, crease, F, ptr, next);
-  std::vector<Vec3> blurred(F);
-  Convolve(ptr, next, MakeTiles(centre, 2.0 * width), centre, data, width, data, blurred, where);
+  FieldSearches own;
+  if (!Serves(shared, 2.5 * width))
+  {
+    if (shared)
+      own.Sides = shared->Sides;
+    if (!FindFieldSearches(graph, crease, centre, width, own, where))
+      return false;
+    shared = &own;
+  }
+  std::vector<Vec3> blurred(data);
+  Convolve(*shared, centre, data, width, data, blurred, where);
   normals.resize(F);
   vtkSMPTools::For(0, F, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t f = begin; f < end; ++f)
@@ -290,21 +375,30 @@ bool UndoBlurWithinSides(const FaceGraph& graph, const std::vector<char>& crease
 
 bool SmoothFieldWithinSides(const FaceGraph& graph, const std::vector<char>& crease,
   const std::vector<Vec3>& centre, const std::vector<Vec3>& data, double width,
-  std::vector<Vec3>& normals, const std::vector<char>* where, double edge)
+  std::vector<Vec3>& normals, const std::vector<char>* where, double edge,
+  const FieldSearches* shared)
 {
   const std::int64_t F = static_cast<std::int64_t>(centre.size());
   if (!(width > 0))
     return false;
-  std::vector<std::int64_t> ptr, next;
-  Neighbours(graph, crease, F, ptr, next);
-  const Tiles tiles = MakeTiles(centre, 2.0 * width);
   // With a mask, the first pass covers the masked faces and every face a
   // few reaches of steps around them: the second pass at a masked face
   // reads the first's residual within its reach. (A face the search
   // reaches by a longer walk has no residual: its correction is left out.)
+  FieldSearches own;
+  if (shared)
+    own.Sides = shared->Sides;
+  if (!own.Sides)
+  {
+    auto sides = std::make_shared<SideNeighbours>();
+    sides->Build(graph, crease, F);
+    own.Sides = sides;
+  }
   std::vector<char> around;
   if (where)
   {
+    const std::vector<std::int64_t>& ptr = own.Sides->Ptr;
+    const std::vector<std::uint32_t>& next = own.Sides->Next;
     around = *where;
     std::vector<std::int64_t> front, grown;
     for (std::int64_t f = 0; f < F; ++f)
@@ -324,11 +418,17 @@ bool SmoothFieldWithinSides(const FaceGraph& graph, const std::vector<char>& cre
       front.swap(grown);
     }
   }
+  if (!Serves(shared, 2.5 * width))
+  {
+    if (!FindFieldSearches(graph, crease, centre, width, own, where ? &around : nullptr))
+      return false;
+    shared = &own;
+  }
   std::vector<Vec3> first(data), residual(F), second(F);
-  Convolve(ptr, next, tiles, centre, data, width, data, first, where ? &around : nullptr);
+  Convolve(*shared, centre, data, width, data, first, where ? &around : nullptr);
   for (std::int64_t f = 0; f < F; ++f)
     residual[f] = data[f] - first[f];
-  Convolve(ptr, next, tiles, centre, data, width, residual, second, where);
+  Convolve(*shared, centre, data, width, residual, second, where);
   normals.resize(F);
   for (std::int64_t f = 0; f < F; ++f)
   {

@@ -21,6 +21,8 @@
 
 #include "dgSharpFeaturesGraph.h"
 
+#include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace dg
@@ -28,26 +30,70 @@ namespace dg
 namespace sharp
 {
 
+/// The faces next to each face across an edge that is not a crease:
+/// Next[Ptr[f] .. Ptr[f + 1]) (fewer than 2^32 faces).
+struct SideNeighbours
+{
+  std::vector<std::int64_t> Ptr;
+  std::vector<std::uint32_t> Next;
+  void Build(const FaceGraph& graph, const std::vector<char>& crease, std::int64_t faces);
+};
+
+/// What each face's Gaussian may read, found once and read by every pass
+/// that reaches no farther: the faces grouped in cubes, and for each cube
+/// and each part of it that creases separate, the faces that part reaches
+/// through face edges that are not creases, within Reach of the cube.
+/// Finding them is most of a pass's cost; the output field's passes share
+/// one set, and sets of other widths share its Sides.
+struct FieldSearches
+{
+  std::shared_ptr<const SideNeighbours> Sides;
+  double Reach = 0;
+  std::vector<std::int64_t> TilePtr;   // faces of cube t: TileFaces[TilePtr[t] .. TilePtr[t + 1])
+  std::vector<std::int64_t> TileFaces; // only the faces the set was found for
+  struct Cube
+  {
+    std::vector<std::uint32_t> Members;   // the parts' faces, part after part
+    std::vector<std::uint32_t> PartStart; // part p: Members[PartStart[p] .. PartStart[p + 1])
+    std::vector<std::int32_t> Part;       // per face of the cube, in TileFaces' order
+  };
+  std::vector<Cube> Cubes;
+};
+
+/// The searches for Gaussians of standard deviation up to `width` (cut at
+/// 2.5 widths; cubes 2 widths wide), for the faces `where` marks (every
+/// face when null). Sides are built unless searches already holds them
+/// (from a set for the same creases). False when width is not positive,
+/// the surface has 2^32 faces or more, or spans 2^21 cubes.
+bool FindFieldSearches(const FaceGraph& graph, const std::vector<char>& crease,
+  const std::vector<Vec3>& centre, double width, FieldSearches& searches,
+  const std::vector<char>* where = nullptr);
+
 /// graph: the faces' edges; crease: per graph edge, nonzero where the field
 /// must not pass; centre and data: per face (data unit or zero); width in
 /// the centres' units. normals gets one unit vector per face (the data where
 /// the mean is zero). where, when given, marks the faces whose normals are
 /// needed (the others get theirs only where that costs nothing; edge: the
-/// mean edge length, which sizes the margin the first pass needs). False
-/// when width is not positive.
+/// mean edge length, which sizes the margin the first pass needs). shared,
+/// when given: searches for the same creases, read when found for this
+/// width to twice it over every face (not only the masked ones; else only
+/// their Sides are). False when width is not positive.
 bool SmoothFieldWithinSides(const FaceGraph& graph, const std::vector<char>& crease,
   const std::vector<Vec3>& centre, const std::vector<Vec3>& data, double width,
-  std::vector<Vec3>& normals, const std::vector<char>* where = nullptr, double edge = 1.0);
+  std::vector<Vec3>& normals, const std::vector<char>* where = nullptr, double edge = 1.0,
+  const FieldSearches* shared = nullptr);
 
 /// One Van Cittert step against a blur of the data by the same faces'
 /// Gaussian of standard deviation `width` (not twiced): normals gets
 /// unit(d + gain (d - unit(G d))) on the faces `where` marks (every face
 /// when null) and the data elsewhere. Where the data are a normal field
 /// blurred by about that Gaussian (an estimator's ball), the step takes out
-/// the blur's leading term. False when width is not positive.
+/// the blur's leading term. shared as for SmoothFieldWithinSides. False
+/// when width is not positive.
 bool UndoBlurWithinSides(const FaceGraph& graph, const std::vector<char>& crease,
   const std::vector<Vec3>& centre, const std::vector<Vec3>& data, double width, double gain,
-  std::vector<Vec3>& normals, const std::vector<char>* where = nullptr);
+  std::vector<Vec3>& normals, const std::vector<char>* where = nullptr,
+  const FieldSearches* shared = nullptr);
 
 } // namespace sharp
 } // namespace dg

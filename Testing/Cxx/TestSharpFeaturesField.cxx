@@ -139,6 +139,64 @@ TEST(SharpFeaturesField, TwicedGaussianMatchesBruteForceAndItsMaskedForm)
   EXPECT_GT(checked, 50);
   // Single-precision sums in another order (each search's own origin).
   EXPECT_LT(differ, 1e-5);
+
+  // Searches found once for a wider Gaussian serve both forms: the same
+  // normals (their parts reach farther, the weights stop at the cut).
+  dg::sharp::FieldSearches searches;
+  ASSERT_TRUE(dg::sharp::FindFieldSearches(strip.Graph, crease, strip.Centre, 1.5 * width, searches));
+  std::vector<Vec3> shared, sharedMasked;
+  ASSERT_TRUE(dg::sharp::SmoothFieldWithinSides(strip.Graph, crease, strip.Centre, strip.Normal,
+    width, shared, nullptr, 1.0, &searches));
+  ASSERT_TRUE(dg::sharp::SmoothFieldWithinSides(strip.Graph, crease, strip.Centre, strip.Normal,
+    width, sharedMasked, &where, 0.5, &searches));
+  double sharedDiffer = 0;
+  for (std::size_t f = 0; f < F; ++f)
+  {
+    sharedDiffer = std::max(sharedDiffer, Angle(shared[f], normals[f]));
+    if (where[f])
+      sharedDiffer = std::max(sharedDiffer, Angle(sharedMasked[f], normals[f]));
+  }
+  EXPECT_LT(sharedDiffer, 1e-5);
+  EXPECT_FALSE(dg::sharp::FindFieldSearches(strip.Graph, crease, strip.Centre, 0.0, searches));
+}
+
+TEST(SharpFeaturesField, CreasesSeparateTheSearchesParts)
+{
+  // The strip cut along its fillet's middle: no face's Gaussian reads a
+  // face across the cut, so the plane's side keeps the plane's normal
+  // exactly and the wall's side the wall's, however close the faces are.
+  const FilletStrip strip(2.0, 0.5, 6.0, 8);
+  const std::size_t F = strip.Centre.size();
+  const double quarter = 0.5 * M_PI * 2.0;
+  std::vector<int> side(F);
+  for (std::size_t f = 0; f < F; ++f)
+    side[f] = strip.Arc[f] < 0.5 * quarter ? 0 : 1;
+  std::vector<char> crease(strip.Graph.Edges.size(), 0);
+  std::vector<Vec3> data(F);
+  for (std::size_t f = 0; f < F; ++f)
+    data[f] = side[f] == 0 ? Vec3(0, 0, -1) : Vec3(1, 0, 0);
+  for (std::size_t e = 0; e < strip.Graph.Edges.size(); ++e)
+  {
+    const std::int64_t* faces = strip.Graph.EdgeFaces.data() + strip.Graph.EdgeFacePtr[e];
+    const std::int64_t n = strip.Graph.EdgeFacePtr[e + 1] - strip.Graph.EdgeFacePtr[e];
+    crease[e] = n == 2 && side[faces[0]] != side[faces[1]];
+  }
+  dg::sharp::FieldSearches searches;
+  ASSERT_TRUE(dg::sharp::FindFieldSearches(strip.Graph, crease, strip.Centre, 2.0, searches));
+  std::vector<Vec3> normals;
+  ASSERT_TRUE(dg::sharp::SmoothFieldWithinSides(
+    strip.Graph, crease, strip.Centre, data, 2.0, normals, nullptr, 1.0, &searches));
+  double worst = 0;
+  for (std::size_t f = 0; f < F; ++f)
+    worst = std::max(worst, Angle(normals[f], data[f]));
+  EXPECT_LT(worst, 1e-9);
+  // Without the cut the two sides mix near it.
+  const std::vector<char> none(strip.Graph.Edges.size(), 0);
+  ASSERT_TRUE(dg::sharp::SmoothFieldWithinSides(strip.Graph, none, strip.Centre, data, 2.0, normals));
+  worst = 0;
+  for (std::size_t f = 0; f < F; ++f)
+    worst = std::max(worst, Angle(normals[f], data[f]));
+  EXPECT_GT(worst, 10.0);
 }
 
 TEST(SharpFeaturesField, UndoingTheBlurRestoresTheFilletJunction)
