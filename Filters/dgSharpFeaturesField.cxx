@@ -346,27 +346,45 @@ bool FindFieldSearches(const FaceGraph& graph, const std::vector<char>& crease,
 
 bool UndoBlurWithinSides(const FaceGraph& graph, const std::vector<char>& crease,
   const std::vector<Vec3>& centre, const std::vector<Vec3>& data, double width, double gain,
-  std::vector<Vec3>& normals, const std::vector<char>* where, const FieldSearches* shared)
+  std::vector<Vec3>& normals, const std::vector<char>* where, const FieldSearches* shared,
+  double gateWidth)
 {
   const std::int64_t F = static_cast<std::int64_t>(centre.size());
   if (!(width > 0))
     return false;
+  const double widest = std::max(width, gateWidth);
   FieldSearches own;
-  if (!Serves(shared, 2.5 * width))
+  if (!shared || shared->Reach < 2.5 * widest * (1 - 1e-12) || !Serves(shared, 2.5 * width))
   {
     if (shared)
       own.Sides = shared->Sides;
-    if (!FindFieldSearches(graph, crease, centre, width, own, where))
+    if (!FindFieldSearches(graph, crease, centre, widest, own, where))
       return false;
     shared = &own;
   }
-  std::vector<Vec3> blurred(data);
+  std::vector<Vec3> blurred(data), correction(F);
   Convolve(*shared, centre, data, width, data, blurred, where);
+  vtkSMPTools::For(0, F, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t f = begin; f < end; ++f)
+      correction[f] = !where || (*where)[f] ? data[f] - blurred[f].Unit() : Vec3();
+  });
+  // The gate: the correction averaged over the gate's Gaussian is the
+  // blur's systematic lean; the digitisation's wiggle averages out.
+  std::vector<Vec3> lean;
+  if (gateWidth > 0)
+  {
+    lean.assign(F, Vec3());
+    Convolve(*shared, centre, data, gateWidth, correction, lean, where);
+  }
+  const double none = GateStartDegrees * M_PI / 180, all = GateFullDegrees * M_PI / 180;
   normals.resize(F);
   vtkSMPTools::For(0, F, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t f = begin; f < end; ++f)
     {
-      const Vec3 d = data[f] + (data[f] - blurred[f].Unit()) * gain;
+      const double open = lean.empty()
+        ? 1.0
+        : std::max(0.0, std::min(1.0, (lean[f].Norm() - none) / (all - none)));
+      const Vec3 d = data[f] + correction[f] * (gain * open);
       normals[f] = (!where || (*where)[f]) && d.Norm() > 0 ? d.Unit() : data[f];
     }
   });

@@ -83,17 +83,29 @@ bool SmoothFieldWithinSides(const FaceGraph& graph, const std::vector<char>& cre
   std::vector<Vec3>& normals, const std::vector<char>* where = nullptr, double edge = 1.0,
   const FieldSearches* shared = nullptr);
 
+/// The gate of UndoBlurWithinSides, in degrees: the step's correction
+/// averaged over the gate's Gaussian turns the face by GateStartDegrees
+/// (the step stays off) to GateFullDegrees (the step acts in full). Where
+/// the surface is evenly curved the averaged correction is the
+/// digitisation's wiggle, which the step would double: 0.5-0.8 degrees at
+/// the 99th percentile on spheres, tori and ellipsoids (II radius 4, 64^3
+/// and 128^3); where the curvature changes (a fillet meeting a plane) it is
+/// the blur's lean, 1-3 degrees (docs/sharp-features.md, step 10).
+constexpr double GateStartDegrees = 0.5;
+constexpr double GateFullDegrees = 1.0;
+
 /// One Van Cittert step against a blur of the data by the same faces'
 /// Gaussian of standard deviation `width` (not twiced): normals gets
-/// unit(d + gain (d - unit(G d))) on the faces `where` marks (every face
-/// when null) and the data elsewhere. Where the data are a normal field
+/// unit(d + gain c), c = d - unit(G d), on the faces `where` marks (every
+/// face when null) and the data elsewhere. Where the data are a normal field
 /// blurred by about that Gaussian (an estimator's ball), the step takes out
-/// the blur's leading term. shared as for SmoothFieldWithinSides. False
-/// when width is not positive.
+/// the blur's leading term. With gateWidth > 0 the gain is scaled per face
+/// by the gate above, c averaged by a Gaussian of that width. shared as for
+/// SmoothFieldWithinSides. False when width is not positive.
 bool UndoBlurWithinSides(const FaceGraph& graph, const std::vector<char>& crease,
   const std::vector<Vec3>& centre, const std::vector<Vec3>& data, double width, double gain,
   std::vector<Vec3>& normals, const std::vector<char>* where = nullptr,
-  const FieldSearches* shared = nullptr);
+  const FieldSearches* shared = nullptr, double gateWidth = 0);
 
 } // namespace sharp
 } // namespace dg
