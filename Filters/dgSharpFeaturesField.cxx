@@ -102,7 +102,10 @@ void Convolve(const FieldSearches& searches, const std::vector<Vec3>& centre,
         const std::size_t padded = (q + Lanes - 1) / Lanes * Lanes;
         const Vec3 origin = centre[members[0]];
         for (auto* v : { &s.X, &s.Y, &s.Z, &s.DX, &s.DY, &s.DZ, &s.IX, &s.IY, &s.IZ })
-          v->assign(padded, 0.0f);
+        {
+          v->resize(padded);
+          std::fill(v->begin() + q, v->end(), 0.0f);
+        }
         s.W.resize(padded); // written by Weigh for every face
         s.M.resize(padded);
         for (std::size_t h = q; h < padded; ++h)
