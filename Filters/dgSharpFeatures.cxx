@@ -776,17 +776,19 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       return fail("the output field needs a positive width, fewer than 2^32 faces and a surface "
                   "narrower than 2^21 field widths");
     const double gain = (1.0 - noise) * (1.0 - noise);
-    if (par.UndoInputBlur && gain > 0 && par.InputRadius > 0)
+    std::vector<double> lean;
+    if (par.UndoInputBlur && par.InputRadius > 0)
     {
       std::vector<char> away(F);
       for (std::int64_t f = 0; f < F; ++f)
         away[f] = !nearLine(f);
       std::vector<Vec3> sharpened;
       UndoBlurWithinSides(graph, crease, centre, data, 0.375 * par.InputRadius * meanEdge2, gain,
-        sharpened, &away, &searches, width * meanEdge2);
+        sharpened, &away, &searches, width * meanEdge2, &lean);
       data.swap(sharpened);
     }
-    SmoothFieldWithinSides(graph, crease, centre, data, width * meanEdge2, out, nullptr, 1.0, &searches);
+    SmoothFieldWithinSides(graph, crease, centre, data, width * meanEdge2, out, nullptr, 1.0,
+      &searches, lean.empty() ? nullptr : &lean);
     if (nearWidth != width)
     {
       // From the near width within SearchDepth of a line to the full width

@@ -25,7 +25,7 @@ struct Scratch
   // The part's faces, single precision and one array per coordinate
   // (centres relative to the part's first face), padded to whole blocks:
   // the weights' loop runs in vector registers.
-  std::vector<float> X, Y, Z, DX, DY, DZ, IX, IY, IZ, W, M;
+  std::vector<float> X, Y, Z, DX, DY, DZ, IX, IY, IZ, IE, W, M;
 };
 
 // Lanes of the weights' loop: independent partial sums the compiler keeps
@@ -70,10 +70,12 @@ void Weigh(const float* __restrict X, const float* __restrict Y, const float* __
 
 // out[f] = the Gaussian-weighted mean of in over the faces f's side reaches
 // (dgSharpFeaturesField.h), for the faces `want` marks (every face the
-// searches cover when null); the others keep out's value.
+// searches cover when null); the others keep out's value. extraIn, when
+// given, is averaged the same way into extraOut.
 void Convolve(const FieldSearches& searches, const std::vector<Vec3>& centre,
   const std::vector<Vec3>& data, double width, const std::vector<Vec3>& in, std::vector<Vec3>& out,
-  const std::vector<char>* want = nullptr)
+  const std::vector<char>* want = nullptr, const std::vector<double>* extraIn = nullptr,
+  std::vector<double>* extraOut = nullptr)
 {
   const std::int64_t T = static_cast<std::int64_t>(searches.Cubes.size());
   const double reach = std::min(2.5 * width, searches.Reach);
@@ -101,10 +103,11 @@ void Convolve(const FieldSearches& searches, const std::vector<Vec3>& centre,
         const std::size_t q = cube.PartStart[p + 1] - cube.PartStart[p];
         const std::size_t padded = (q + Lanes - 1) / Lanes * Lanes;
         const Vec3 origin = centre[members[0]];
-        for (auto* v : { &s.X, &s.Y, &s.Z, &s.DX, &s.DY, &s.DZ, &s.IX, &s.IY, &s.IZ })
+        for (auto* v : { &s.X, &s.Y, &s.Z, &s.DX, &s.DY, &s.DZ, &s.IX, &s.IY, &s.IZ, &s.IE })
         {
-          v->resize(padded);
-          std::fill(v->begin() + q, v->end(), 0.0f);
+          v->resize(v == &s.IE && !extraIn ? 0 : padded);
+          if (!v->empty())
+            std::fill(v->begin() + q, v->end(), 0.0f);
         }
         s.W.resize(padded); // written by Weigh for every face
         s.M.resize(padded);
@@ -123,9 +126,12 @@ void Convolve(const FieldSearches& searches, const std::vector<Vec3>& centre,
           s.IY[h] = static_cast<float>(in[g].y);
           s.IZ[h] = static_cast<float>(in[g].z);
         }
+        if (extraIn)
+          for (std::size_t h = 0; h < q; ++h)
+            s.IE[h] = static_cast<float>((*extraIn)[members[h]]);
         const float *X = s.X.data(), *Y = s.Y.data(), *Z = s.Z.data();
         const float *DX = s.DX.data(), *DY = s.DY.data(), *DZ = s.DZ.data();
-        const float *IX = s.IX.data(), *IY = s.IY.data(), *IZ = s.IZ.data();
+        const float *IX = s.IX.data(), *IY = s.IY.data(), *IZ = s.IZ.data(), *IE = s.IE.data();
         float *W = s.W.data(), *M = s.M.data();
         for (std::int64_t j = 0; j < count; ++j)
         {
@@ -158,25 +164,38 @@ void Convolve(const FieldSearches& searches, const std::vector<Vec3>& centre,
               sw[l] += M[h];
             }
           Vec3 all, sum;
-          double weights = 0;
+          double weights = 0, extra = 0;
           for (int l = 0; l < Lanes; ++l)
           {
             all += Vec3(ax[l], ay[l], az[l]);
             sum += Vec3(sx[l], sy[l], sz[l]);
             weights += sw[l];
           }
+          if (extraIn)
+          {
+            float se[Lanes] = {};
+            for (std::size_t b = 0; b < padded; b += Lanes)
+              for (int l = 0; l < Lanes; ++l)
+                se[l] += IE[b + l] * M[b + l];
+            for (int l = 0; l < Lanes; ++l)
+              extra += se[l];
+          }
           if (data[f].Dot(all) < 0)
           {
             sum = Vec3();
-            weights = 0;
+            weights = extra = 0;
             for (std::size_t h = 0; h < q; ++h)
             {
               const double w = Vec3(DX[h], DY[h], DZ[h]).Dot(all) >= 0 ? W[h] : 0.0;
               sum += Vec3(IX[h], IY[h], IZ[h]) * w;
               weights += w;
+              if (extraIn)
+                extra += IE[h] * w;
             }
           }
           out[f] = weights > 0 ? sum * (1.0 / weights) : in[f];
+          if (extraIn)
+            (*extraOut)[f] = weights > 0 ? extra / weights : (*extraIn)[f];
         }
       }
     }
@@ -350,7 +369,7 @@ bool FindFieldSearches(const FaceGraph& graph, const std::vector<char>& crease,
 bool UndoBlurWithinSides(const FaceGraph& graph, const std::vector<char>& crease,
   const std::vector<Vec3>& centre, const std::vector<Vec3>& data, double width, double gain,
   std::vector<Vec3>& normals, const std::vector<char>* where, const FieldSearches* shared,
-  double gateWidth)
+  double gateWidth, std::vector<double>* leanDegrees)
 {
   const std::int64_t F = static_cast<std::int64_t>(centre.size());
   if (!(width > 0))
@@ -380,6 +399,12 @@ bool UndoBlurWithinSides(const FaceGraph& graph, const std::vector<char>& crease
     Convolve(*shared, centre, data, gateWidth, correction, lean, where);
   }
   const double none = GateStartDegrees * M_PI / 180, all = GateFullDegrees * M_PI / 180;
+  if (leanDegrees)
+  {
+    leanDegrees->assign(F, 0.0);
+    for (std::int64_t f = 0; f < static_cast<std::int64_t>(lean.size()); ++f)
+      (*leanDegrees)[f] = lean[f].Norm() * 180 / M_PI;
+  }
   normals.resize(F);
   vtkSMPTools::For(0, F, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t f = begin; f < end; ++f)
@@ -397,7 +422,7 @@ bool UndoBlurWithinSides(const FaceGraph& graph, const std::vector<char>& crease
 bool SmoothFieldWithinSides(const FaceGraph& graph, const std::vector<char>& crease,
   const std::vector<Vec3>& centre, const std::vector<Vec3>& data, double width,
   std::vector<Vec3>& normals, const std::vector<char>* where, double edge,
-  const FieldSearches* shared)
+  const FieldSearches* shared, const std::vector<double>* leanDegrees)
 {
   const std::int64_t F = static_cast<std::int64_t>(centre.size());
   if (!(width > 0))
@@ -450,10 +475,33 @@ bool SmoothFieldWithinSides(const FaceGraph& graph, const std::vector<char>& cre
   for (std::int64_t f = 0; f < F; ++f)
     residual[f] = data[f] - first[f];
   Convolve(*shared, centre, data, width, residual, second, where);
+  std::vector<Vec3> wide;
+  std::vector<double> leanAround;
+  if (leanDegrees && !where)
+  {
+    // The same twicing with K K as the Gaussian (a Gaussian about sqrt 2
+    // times as wide): 2 K^2 d - K^4 d, from K^2 d = first - second and two
+    // more passes; the first of them also averages the lean.
+    std::vector<Vec3> k2(F), k3(F);
+    wide.resize(F);
+    leanAround.resize(F);
+    for (std::int64_t f = 0; f < F; ++f)
+      k2[f] = first[f] - second[f];
+    Convolve(*shared, centre, data, width, k2, k3, nullptr, leanDegrees, &leanAround);
+    Convolve(*shared, centre, data, width, k3, wide, nullptr);
+    for (std::int64_t f = 0; f < F; ++f)
+      wide[f] = k2[f] * 2.0 - wide[f];
+  }
   normals.resize(F);
   for (std::int64_t f = 0; f < F; ++f)
   {
-    const Vec3 u = first[f] + second[f];
+    Vec3 u = first[f] + second[f];
+    if (!wide.empty())
+    {
+      const double t = std::max(0.0,
+        std::min(1.0, (leanAround[f] - WideStartDegrees) / (WideFullDegrees - WideStartDegrees)));
+      u = u.Unit() * t + wide[f].Unit() * (1 - t);
+    }
     normals[f] = u.Norm() > 0 ? u.Unit() : data[f];
   }
   return true;

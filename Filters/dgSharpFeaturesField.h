@@ -74,14 +74,19 @@ bool FindFieldSearches(const FaceGraph& graph, const std::vector<char>& crease,
 /// the centres' units. normals gets one unit vector per face (the data where
 /// the mean is zero). where, when given, marks the faces whose normals are
 /// needed (the others get theirs only where that costs nothing; edge: the
-/// mean edge length, which sizes the margin the first pass needs). shared,
+/// mean edge length, which sizes the margin the first pass needs).
+/// leanDegrees (without a mask): UndoBlurWithinSides' lean per face; where
+/// its mean over the Gaussian is small (below WideStartDegrees: an evenly
+/// curved part, far from any change of curvature) the field is the same
+/// twicing with K K, about 1.4 times as wide, blended into the narrower up
+/// to WideFullDegrees. shared,
 /// when given: searches for the same creases, read when found for this
 /// width to twice it over every face (not only the masked ones; else only
 /// their Sides are). False when width is not positive.
 bool SmoothFieldWithinSides(const FaceGraph& graph, const std::vector<char>& crease,
   const std::vector<Vec3>& centre, const std::vector<Vec3>& data, double width,
   std::vector<Vec3>& normals, const std::vector<char>* where = nullptr, double edge = 1.0,
-  const FieldSearches* shared = nullptr);
+  const FieldSearches* shared = nullptr, const std::vector<double>* leanDegrees = nullptr);
 
 /// The gate of UndoBlurWithinSides, in degrees: the step's correction
 /// averaged over the gate's Gaussian turns the face by GateStartDegrees
@@ -94,18 +99,29 @@ bool SmoothFieldWithinSides(const FaceGraph& graph, const std::vector<char>& cre
 constexpr double GateStartDegrees = 0.5;
 constexpr double GateFullDegrees = 1.0;
 
+/// The wider field of SmoothFieldWithinSides where the lean, averaged over
+/// the field's Gaussian, stays below WideStartDegrees (the 90th percentile
+/// of that average on spheres, tori and ellipsoids, 64^3 and 128^3, is
+/// 0.25-0.57 degrees), the narrower from WideFullDegrees (their 99th:
+/// 0.45-0.80; next to a fillet of radius 4 it is 1.4 at the median).
+constexpr double WideStartDegrees = 0.4;
+constexpr double WideFullDegrees = 0.8;
+
 /// One Van Cittert step against a blur of the data by the same faces'
 /// Gaussian of standard deviation `width` (not twiced): normals gets
 /// unit(d + gain c), c = d - unit(G d), on the faces `where` marks (every
 /// face when null) and the data elsewhere. Where the data are a normal field
 /// blurred by about that Gaussian (an estimator's ball), the step takes out
 /// the blur's leading term. With gateWidth > 0 the gain is scaled per face
-/// by the gate above, c averaged by a Gaussian of that width. shared as for
-/// SmoothFieldWithinSides. False when width is not positive.
+/// by the gate above, c averaged by a Gaussian of that width, and
+/// leanDegrees, when given, gets that average's size per face (0 without a
+/// gate). shared as for SmoothFieldWithinSides. False when width is not
+/// positive.
 bool UndoBlurWithinSides(const FaceGraph& graph, const std::vector<char>& crease,
   const std::vector<Vec3>& centre, const std::vector<Vec3>& data, double width, double gain,
   std::vector<Vec3>& normals, const std::vector<char>* where = nullptr,
-  const FieldSearches* shared = nullptr, double gateWidth = 0);
+  const FieldSearches* shared = nullptr, double gateWidth = 0,
+  std::vector<double>* leanDegrees = nullptr);
 
 } // namespace sharp
 } // namespace dg

@@ -160,6 +160,39 @@ TEST(SharpFeaturesField, TwicedGaussianMatchesBruteForceAndItsMaskedForm)
   EXPECT_FALSE(dg::sharp::FindFieldSearches(strip.Graph, crease, strip.Centre, 0.0, searches));
 }
 
+TEST(SharpFeaturesField, TheWideFieldWhereTheLeanIsSmall)
+{
+  // With no lean anywhere the field is the twicing of K K, 2 K^2 d - K^4 d
+  // (brute force); with a lean above WideFullDegrees it is the narrower
+  // field, as without one.
+  const FilletStrip strip(6.0, 0.5, 6.0, 12);
+  const std::size_t F = strip.Centre.size();
+  const std::vector<char> crease(strip.Graph.Edges.size(), 0);
+  const double width = 1.5;
+  std::vector<Vec3> k1 = BruteMean(strip.Centre, strip.Normal, width);
+  std::vector<Vec3> k2 = BruteMean(strip.Centre, k1, width);
+  std::vector<Vec3> k3 = BruteMean(strip.Centre, k2, width);
+  std::vector<Vec3> k4 = BruteMean(strip.Centre, k3, width);
+  const std::vector<double> calm(F, 0.0), leaning(F, 2 * dg::sharp::WideFullDegrees);
+  std::vector<Vec3> wide, narrow, plain;
+  ASSERT_TRUE(dg::sharp::SmoothFieldWithinSides(strip.Graph, crease, strip.Centre, strip.Normal,
+    width, wide, nullptr, 1.0, nullptr, &calm));
+  ASSERT_TRUE(dg::sharp::SmoothFieldWithinSides(strip.Graph, crease, strip.Centre, strip.Normal,
+    width, narrow, nullptr, 1.0, nullptr, &leaning));
+  ASSERT_TRUE(dg::sharp::SmoothFieldWithinSides(
+    strip.Graph, crease, strip.Centre, strip.Normal, width, plain));
+  double worstWide = 0, worstNarrow = 0, apart = 0;
+  for (std::size_t f = 0; f < F; ++f)
+  {
+    worstWide = std::max(worstWide, Angle(wide[f], (k2[f] * 2.0 - k4[f]).Unit()));
+    worstNarrow = std::max(worstNarrow, Angle(narrow[f], plain[f]));
+    apart = std::max(apart, Angle(wide[f], plain[f]));
+  }
+  EXPECT_LT(worstWide, 1e-3);
+  EXPECT_LT(worstNarrow, 1e-9);
+  EXPECT_GT(apart, 0.1); // the two fields differ across the fillet
+}
+
 TEST(SharpFeaturesField, CreasesSeparateTheSearchesParts)
 {
   // The strip cut along its fillet's middle: no face's Gaussian reads a
