@@ -646,7 +646,8 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
   // share of faces that face away from their input normal (a voxel face
   // turned more than 90 degrees from the surface), 0 on a clean digital
   // surface of any shape and 0.22-0.23 at the paper's noise k = 0.3; it
-  // sets the Gaussian's width too.
+  // sets the Gaussian's width too, and where the input's blur leans
+  // nothing (an evenly curved part) the field is 1.4 times as wide.
   if (inputNormals && par.FieldWidth >= 0)
   {
     std::int64_t away = 0;
