@@ -785,7 +785,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
         away[f] = !nearLine(f);
       std::vector<Vec3> sharpened;
       UndoBlurWithinSides(graph, crease, centre, data, 0.375 * par.InputRadius * meanEdge2, gain,
-        sharpened, &away, &searches, width * meanEdge2, &lean);
+        sharpened, &away, &searches, width * meanEdge2, &lean, 4.0 / par.InputRadius);
       data.swap(sharpened);
     }
     SmoothFieldWithinSides(graph, crease, centre, data, width * meanEdge2, out, nullptr, 1.0,

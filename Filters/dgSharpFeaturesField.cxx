@@ -369,7 +369,7 @@ bool FindFieldSearches(const FaceGraph& graph, const std::vector<char>& crease,
 bool UndoBlurWithinSides(const FaceGraph& graph, const std::vector<char>& crease,
   const std::vector<Vec3>& centre, const std::vector<Vec3>& data, double width, double gain,
   std::vector<Vec3>& normals, const std::vector<char>* where, const FieldSearches* shared,
-  double gateWidth, std::vector<double>* leanDegrees)
+  double gateWidth, std::vector<double>* leanDegrees, double gateScale)
 {
   const std::int64_t F = static_cast<std::int64_t>(centre.size());
   if (!(width > 0))
@@ -398,12 +398,13 @@ bool UndoBlurWithinSides(const FaceGraph& graph, const std::vector<char>& crease
     lean.assign(F, Vec3());
     Convolve(*shared, centre, data, gateWidth, correction, lean, where);
   }
-  const double none = GateStartDegrees * M_PI / 180, all = GateFullDegrees * M_PI / 180;
+  const double none = gateScale * GateStartDegrees * M_PI / 180,
+               all = gateScale * GateFullDegrees * M_PI / 180;
   if (leanDegrees)
   {
     leanDegrees->assign(F, 0.0);
     for (std::int64_t f = 0; f < static_cast<std::int64_t>(lean.size()); ++f)
-      (*leanDegrees)[f] = lean[f].Norm() * 180 / M_PI;
+      (*leanDegrees)[f] = lean[f].Norm() * 180 / M_PI / gateScale;
   }
   normals.resize(F);
   vtkSMPTools::For(0, F, [&](std::int64_t begin, std::int64_t end) {

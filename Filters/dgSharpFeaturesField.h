@@ -115,15 +115,19 @@ constexpr double WideFullDegrees = 0.8;
 /// face when null) and the data elsewhere. Where the data are a normal field
 /// blurred by about that Gaussian (an estimator's ball), the step takes out
 /// the blur's leading term. With gateWidth > 0 the gain is scaled per face
-/// by the gate above, c averaged by a Gaussian of that width, and
-/// leanDegrees, when given, gets that average's size per face (0 without a
-/// gate). shared as for SmoothFieldWithinSides. False when width is not
-/// positive.
+/// by the gate above, c averaged by a Gaussian of that width, its
+/// thresholds times gateScale, and leanDegrees, when given, gets that
+/// average's size per face divided by gateScale (0 without a gate). The
+/// thresholds are for II of radius 4; the digitisation's wiggle in an
+/// estimator's normals falls about as the inverse of its radius r, and 4 /
+/// r keeps DGtal's goursat surface at r 8 and 16 where it was without the
+/// gate (docs/sharp-features.md, step 10). shared as for
+/// SmoothFieldWithinSides. False when width is not positive.
 bool UndoBlurWithinSides(const FaceGraph& graph, const std::vector<char>& crease,
   const std::vector<Vec3>& centre, const std::vector<Vec3>& data, double width, double gain,
   std::vector<Vec3>& normals, const std::vector<char>* where = nullptr,
   const FieldSearches* shared = nullptr, double gateWidth = 0,
-  std::vector<double>* leanDegrees = nullptr);
+  std::vector<double>* leanDegrees = nullptr, double gateScale = 1.0);
 
 } // namespace sharp
 } // namespace dg
