@@ -787,6 +787,12 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       UndoBlurWithinSides(graph, crease, centre, data, 0.375 * par.InputRadius * meanEdge2, gain,
         sharpened, &away, &searches, width * meanEdge2, &lean, 4.0 / par.InputRadius);
       data.swap(sharpened);
+      // Near a line the window is one-sided (and under noise the line may
+      // be a false one between AT's facets): there the field stays narrow,
+      // as if the surface leaned.
+      for (std::int64_t f = 0; f < F; ++f)
+        if (steps[f] >= 0 && steps[f] < std::max(1, 2 * par.SearchDepth))
+          lean[f] = std::max(lean[f], 2 * WideFullDegrees);
     }
     SmoothFieldWithinSides(graph, crease, centre, data, width * meanEdge2, out, nullptr, 1.0,
       &searches, lean.empty() ? nullptr : &lean);
