@@ -56,6 +56,20 @@ def true_mean_curvature(c):
     return num / (2 * g2 ** 1.5), np.abs(P(x)).max()
 
 
+def read_with_truth(path):
+    """The program's surface (.vtp) and the true H at its face centres."""
+    r = vtkXMLPolyDataReader()
+    r.SetFileName(path)
+    r.Update()
+    surface = r.GetOutput()
+    cc = vtkCellCenters()
+    cc.SetInputData(surface)
+    cc.Update()
+    centres = vtk_to_numpy(cc.GetOutput().GetPoints().GetData()).astype(float)
+    truth, residual = true_mean_curvature(centres)
+    return surface, truth, residual
+
+
 def main():
     hs, balls = [0.5, 0.25, 0.125], [3, 5, 7]
     args = sys.argv[1:]
@@ -90,15 +104,7 @@ def main():
         dt = time.monotonic() - t0
         if p.returncode != 0:
             sys.exit(p.stderr)
-        r = vtkXMLPolyDataReader()
-        r.SetFileName(os.path.join(tmp, "goursat_surface.vtp"))
-        r.Update()
-        surface = r.GetOutput()
-        cc = vtkCellCenters()
-        cc.SetInputData(surface)
-        cc.Update()
-        centres = vtk_to_numpy(cc.GetOutput().GetPoints().GetData()).astype(float)
-        truth, residual = true_mean_curvature(centres)
+        surface, truth, residual = read_with_truth(os.path.join(tmp, "goursat_surface.vtp"))
         row = ["%.3f" % h, "%d" % surface.GetNumberOfCells(), "%.1f s" % dt]
         ii = surface.GetCellData().GetArray("IIMeanCurvature")  # with -- --curvatures
         if ii is not None:

@@ -16,11 +16,10 @@ import sys
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkImageData
-from vtkmodules.vtkFiltersCore import vtkCellCenters
-from vtkmodules.vtkIOXML import vtkXMLImageDataWriter, vtkXMLPolyDataReader
+from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Benchmarks"))
-from bench_goursat import P, true_mean_curvature  # noqa: E402
+from bench_goursat import P, read_with_truth  # noqa: E402
 
 failures = []
 
@@ -56,15 +55,7 @@ def errors(extra, prefix):
                        capture_output=True, text=True)
     if p.returncode != 0:
         sys.exit(p.stderr)
-    r = vtkXMLPolyDataReader()
-    r.SetFileName(os.path.join(tmp, prefix + "_surface.vtp"))
-    r.Update()
-    surface = r.GetOutput()
-    cc = vtkCellCenters()
-    cc.SetInputData(surface)
-    cc.Update()
-    centres = vtk_to_numpy(cc.GetOutput().GetPoints().GetData()).astype(float)
-    truth, _ = true_mean_curvature(centres)
+    surface, truth, _ = read_with_truth(os.path.join(tmp, prefix + "_surface.vtp"))
     e = np.abs(vtk_to_numpy(surface.GetCellData().GetArray("CorrectedMeanCurvature")) - truth)
     return surface.GetNumberOfCells(), e.max(), np.sqrt((e ** 2).mean())
 
