@@ -267,12 +267,14 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
   std::vector<CreaseVerdict> verdicts;
   const bool turn = settings.MinimumTurnShare > 0;
   const double reach = turn ? std::max(settings.Far, settings.TurnFar) : settings.Far;
-  // A face is searched within this many steps for its side's fit faces,
-  // and within `steps` for the voxel-scale turn.
-  const int fitSteps = static_cast<int>(std::ceil(1.5 * settings.Far)) + 2;
+  // A face is searched within this many face steps for its side's fit
+  // faces, and within `steps` for the voxel-scale turn (lengths over the
+  // edge length: the spacing changes nothing).
+  const int fitSteps = static_cast<int>(std::ceil(1.5 * settings.Far / settings.EdgeLength)) + 2;
   const int steps = turn
     ? std::max(fitSteps,
-        static_cast<int>(std::ceil(1.5 * std::hypot(settings.TurnFar, settings.TurnSlab))) + 2)
+        static_cast<int>(std::ceil(
+          1.5 * std::hypot(settings.TurnFar, settings.TurnSlab) / settings.EdgeLength)) + 2)
     : fitSteps;
   // The line's direction at a face: from the line faces within this length.
   const double tangentReach = 4 * settings.EdgeLength;
