@@ -269,13 +269,16 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
   const double reach = turn ? std::max(settings.Far, settings.TurnFar) : settings.Far;
   // A face is searched within this many face steps for its side's fit
   // faces, and within `steps` for the voxel-scale turn (lengths over the
-  // edge length: the spacing changes nothing).
-  const int fitSteps = static_cast<int>(std::ceil(1.5 * settings.Far / settings.EdgeLength)) + 2;
-  const int steps = turn
-    ? std::max(fitSteps,
-        static_cast<int>(std::ceil(
-          1.5 * std::hypot(settings.TurnFar, settings.TurnSlab) / settings.EdgeLength)) + 2)
-    : fitSteps;
+  // edge length: the spacing changes nothing; degenerate lengths, from a
+  // surface whose edges all have length 0 or non-finite points, give the
+  // smallest search).
+  const auto stepsFor = [&](double length) {
+    const double s = std::ceil(1.5 * length / settings.EdgeLength);
+    return (std::isfinite(s) ? static_cast<int>(std::min(std::max(s, 0.0), 1e6)) : 0) + 2;
+  };
+  const int fitSteps = stepsFor(settings.Far);
+  const int steps =
+    turn ? std::max(fitSteps, stepsFor(std::hypot(settings.TurnFar, settings.TurnSlab))) : fitSteps;
   // The line's direction at a face: from the line faces within this length.
   const double tangentReach = 4 * settings.EdgeLength;
   for (const auto& line : lines)
