@@ -709,6 +709,10 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
     // Within SearchDepth of a line (the steps go on to twice that for the
     // field's width below).
     auto nearLine = [&](std::int64_t f) { return steps[f] >= 0 && steps[f] <= par.SearchDepth; };
+    // Within twice that: where the field stays narrow.
+    auto nearField = [&](std::int64_t f) {
+      return steps[f] >= 0 && steps[f] < std::max(1, 2 * par.SearchDepth);
+    };
     // Curved sides up to a crease: AT's normals there are flatter than the
     // surface (its smoothing shrinks curvature), and the input blends the
     // two sides. A side that is a quadric to within the staircase gives its
@@ -791,7 +795,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       // be a false one between AT's facets): there the field stays narrow,
       // as if the surface leaned.
       for (std::int64_t f = 0; f < F; ++f)
-        if (steps[f] >= 0 && steps[f] < std::max(1, 2 * par.SearchDepth))
+        if (nearField(f))
           lean[f] = std::max(lean[f], 2 * WideFullDegrees);
     }
     SmoothFieldWithinSides(graph, crease, centre, data, width * meanEdge2, out, nullptr, 1.0,
@@ -802,7 +806,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       // at twice that, linearly in face steps.
       std::vector<char> close(F);
       for (std::int64_t f = 0; f < F; ++f)
-        close[f] = steps[f] >= 0 && steps[f] < std::max(1, 2 * par.SearchDepth);
+        close[f] = nearField(f);
       std::vector<Vec3> narrow;
       SmoothFieldWithinSides(
         graph, crease, centre, data, nearWidth * meanEdge2, narrow, &close, meanEdge2, &searches);
