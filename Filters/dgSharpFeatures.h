@@ -57,7 +57,8 @@
 //    the surface shows calls for (FieldWidth). On a clean surface the
 //    data away from the lines first undo the input's own blur where it
 //    leans them (UndoInputBlur: one Van Cittert step with a Gaussian of
-//    0.375 InputRadius, gated by its own averaged correction), and the
+//    sqrt((0.375 InputRadius)^2 + 1.75) edges, gated by its own averaged
+//    correction), and the
 //    Gaussian is then at least 2 edges wide; where nothing leans, farther
 //    than 2 SearchDepth from a line, it is 1.4 times as wide.
 //
@@ -105,7 +106,8 @@ struct SharpFeatureParameters
                                  // this share of their angle 4.5-9.5 edges out is a bend
   double FieldWidth = 0.0;   // edge lengths: the output field's Gaussian; 0: from the noise the
                              // surface shows; < 0: no field (the side and region normals as they are)
-  bool UndoInputBlur = true; // the field's data undo the input's blur over 0.375 InputRadius, with a
+  bool UndoInputBlur = true; // the field's data undo the input's blur (a Gaussian of
+                             // sqrt((0.375 InputRadius)^2 + 1.75) edges), with a
                              // gain (1 - noise gauge)^2 (1 on a clean surface, 0 at k = 0.3), where
                              // the blur leans them; the field widens where nothing leans
 };

@@ -378,16 +378,19 @@ public:
    * its ball, which leans them towards the more curved side wherever the
    * curvature changes (where a fillet meets a plane, II with radius 4 is
    * 4-6 degrees off). Away from the lines, each datum d becomes
-   * d + g (d - G d), G a Gaussian of 0.375 InputRadius over the faces on
-   * its side, g = (1 - min(1, s / 0.22))^2 from the noise share s: 1 on a
+   * d + g (d - G d), G a Gaussian of sqrt((0.375 InputRadius)^2 + 1.75)
+   * edge lengths (2 for radius 4) over the faces on its side,
+   * g = (1 - min(1, s / 0.22))^2 from the noise share s: 1 on a
    * clean surface, 0 at the paper's k = 0.3, where the data are mostly
    * Ambrosio-Tortorelli's normals and the step would sharpen their
    * terraces. The step acts only where its correction, averaged over the
-   * field's Gaussian, exceeds 0.5 degrees (in full from 1 degree): a
+   * field's Gaussian, exceeds 0.89 degrees (in full from 1.78; for radius
+   * r these scale by 4 / r and by G's variance over (0.375 r)^2): a
    * systematic lean, not the digitisation's wiggle. Where that average,
-   * averaged again, stays under 0.4 degrees (an evenly curved part) the
-   * field is 1.4 times as wide (its twicing with the Gaussian applied
-   * twice), blended into the narrower up to 0.8 degrees. Off: neither.
+   * averaged again, stays under 0.71 degrees (an evenly curved part; the
+   * same scale) the field is 1.4 times as wide (its twicing with the
+   * Gaussian applied twice), blended into the narrower up to 1.42 degrees.
+   * Off: neither.
    */
   vtkSetMacro(UndoInputBlur, bool);
   vtkGetMacro(UndoInputBlur, bool);
