@@ -54,11 +54,11 @@
 //    from the lines and AT's band, the input blended with AT's u by the
 //    noise share, min(1, NoiseShare / 0.22)) over
 //    the faces on the same side of every kept line, as wide as the noise
-//    the surface shows calls for (FieldWidth). On a clean surface the
-//    data away from the lines first undo the input's own blur where it
-//    leans them (UndoInputBlur: one Van Cittert step with a Gaussian of
+//    the surface shows calls for (FieldWidth). The data away from the
+//    lines first undo the input's own blur where it leans them
+//    (UndoInputBlur: one Van Cittert step with a Gaussian of
 //    sqrt((0.375 InputRadius)^2 + 1.75) edges, gated by its own averaged
-//    correction), and the
+//    correction; under noise the correction itself averaged), and the
 //    Gaussian is then at least 2 edges wide; where nothing leans, farther
 //    than 2 SearchDepth from a line, it is 1.4 times as wide.
 //
@@ -107,9 +107,10 @@ struct SharpFeatureParameters
   double FieldWidth = 0.0;   // edge lengths: the output field's Gaussian; 0: from the noise the
                              // surface shows; < 0: no field (the side and region normals as they are)
   bool UndoInputBlur = true; // the field's data undo the input's blur (a Gaussian of
-                             // sqrt((0.375 InputRadius)^2 + 1.75) edges), with a
-                             // gain (1 - noise gauge)^2 (1 on a clean surface, 0 at k = 0.3), where
-                             // the blur leans them; the field widens where nothing leans
+                             // sqrt((0.375 InputRadius)^2 + 1.75) edges) where the blur
+                             // leans them, with the correction averaged as the noise gauge
+                             // grows (raw on a clean surface, averaged from k = 0.3);
+                             // the field widens where nothing leans
 };
 
 struct SharpFeatureResult

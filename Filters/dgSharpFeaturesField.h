@@ -101,6 +101,12 @@ bool SmoothFieldWithinSides(const FaceGraph& graph, const std::vector<char>& cre
 constexpr double GateStartDegrees = 0.5;
 constexpr double GateFullDegrees = 1.0;
 
+/// How much higher the gate's thresholds are for an averaged correction
+/// (UndoBlurWithinSides' averaged = 1): measured at k = 0.3, 64^3, the
+/// sphere, ellipsoid and torus stay within 0.02 degrees of the step off
+/// with 1.5 times the thresholds, and lose up to 0.05 with 1 times.
+constexpr double AveragedGateRaise = 0.5;
+
 /// The wider field of SmoothFieldWithinSides where the lean, averaged over
 /// the field's Gaussian, stays below WideStartDegrees (the 90th percentile
 /// of that average on spheres, tori and ellipsoids, 64^3 and 128^3, is
@@ -122,12 +128,16 @@ constexpr double WideFullDegrees = 0.8;
 /// estimator's normals falls about as the inverse of its radius r, and 4 /
 /// r keeps DGtal's goursat surface at r 8 and 16 where it was without the
 /// gate (docs/sharp-features.md, step 10). shared as for
-/// SmoothFieldWithinSides. False when width is not positive.
+/// SmoothFieldWithinSides. averaged (0-1, with a gate only): the share
+/// of c replaced by its average over three passes of the gate's Gaussian,
+/// and the gate's thresholds raised by AveragedGateRaise times that share
+/// (for noisy data, whose raw correction is mostly noise). False when width
+/// is not positive.
 bool UndoBlurWithinSides(const FaceGraph& graph, const std::vector<char>& crease,
   const std::vector<Vec3>& centre, const std::vector<Vec3>& data, double width, double gain,
   std::vector<Vec3>& normals, const std::vector<char>* where = nullptr,
   const FieldSearches* shared = nullptr, double gateWidth = 0,
-  std::vector<double>* leanDegrees = nullptr, double gateScale = 1.0);
+  std::vector<double>* leanDegrees = nullptr, double gateScale = 1.0, double averaged = 0.0);
 
 } // namespace sharp
 } // namespace dg

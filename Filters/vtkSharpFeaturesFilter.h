@@ -377,15 +377,16 @@ public:
    * (default on). The input estimator averages the surface's normals over
    * its ball, which leans them towards the more curved side wherever the
    * curvature changes (where a fillet meets a plane, II with radius 4 is
-   * 4-6 degrees off). Away from the lines, each datum d becomes
-   * d + g (d - G d), G a Gaussian of sqrt((0.375 InputRadius)^2 + 1.75)
-   * edge lengths (2 for radius 4) over the faces on its side,
-   * g = (1 - min(1, s / 0.22))^2 from the noise share s: 1 on a
-   * clean surface, 0 at the paper's k = 0.3, where the data are mostly
-   * Ambrosio-Tortorelli's normals and the step would sharpen their
-   * terraces. The step acts only where its correction, averaged over the
+   * 4-6 degrees off). Away from the lines, each datum d becomes d + c,
+   * c = d - G d, G a Gaussian of sqrt((0.375 InputRadius)^2 + 1.75) edge
+   * lengths (2 for radius 4) over the faces on its side. Under noise c is
+   * mostly the noise's own, so a share a = 1 - (1 - min(1, s / 0.22))^2 of
+   * it (s the noise share: a = 0 on a clean surface, 1 from the paper's
+   * k = 0.3) is replaced by its average over three passes of the field's
+   * Gaussian. The step acts only where its correction, averaged over the
    * field's Gaussian, exceeds 0.89 degrees (in full from 1.78; for radius
-   * r these scale by 4 / r and by G's variance over (0.375 r)^2): a
+   * r these scale by 4 / r and by G's variance over (0.375 r)^2, and rise
+   * by half at a = 1): a
    * systematic lean, not the digitisation's wiggle. Where that average,
    * averaged again, stays under 0.71 degrees (an evenly curved part; the
    * same scale) the field is 1.4 times as wide (its twicing with the

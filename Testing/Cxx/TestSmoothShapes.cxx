@@ -102,22 +102,15 @@ TEST_P(SmoothShapes, NoInventedFeaturesNeverWorseThanTheInput)
       b.Features = 8;
       b.Worse = 1.5;
     }
-    if (fillet)
+    if (name == "fillet4" && n == 64)
     {
-      // Fillets at k = 0.3 meet the line and "worse" targets (radius 4,
-      // below the 6 voxels under noise: 0.48-0.62 % worse at 64^3).
-      // The mean is below 0.6 times the input's except on the tightest
-      // ones at 64^3: radius 6 0.605-0.62 (a Gaussian of the input normals
-      // of any width does no better than 0.64 there, AT's u blended in 0.61:
-      // the input's own error on the fillets is mostly its bias; widths
-      // 1.5-4 measured) and radius 4 0.74-0.75 (0.49-0.50 at 128^3).
-      if (name == "fillet4")
-      {
-        b.Ratio = 0.8;
-        b.Worse = 1.0;
-      }
-      if (name == "fillet6" && n == 64)
-        b.Ratio = 0.65;
+      // Fillets at k = 0.3 meet every target (the output field undoes the
+      // input's blur under noise too, with the correction averaged: radius
+      // 6 at 64^3 0.57-0.58 of the input's mean, 0.605-0.62 before) but
+      // radius 4 at 64^3, below the 6 voxels under noise, whose
+      // mean is 0.67-0.68 of the input's (0.74-0.75 before): there the
+      // input's error is mostly its bias on a fillet of its own radius.
+      b.Ratio = 0.72;
     }
     EXPECT_LE(noisy.FeaturesPer1000, b.Features) << seed;
     EXPECT_LE(noisy.WorseShare, b.Worse) << seed;
