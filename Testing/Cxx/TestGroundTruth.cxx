@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 
 using Eigen::Vector3d;
 using namespace dgtest;
@@ -120,4 +121,57 @@ TEST(GroundTruth, DigitizeAndSurfelCenters)
   EXPECT_EQ(image->GetScalarComponentAsDouble(0, 0, 0, 0), 0.0);
   EXPECT_EQ(image->GetScalarComponentAsDouble(11, 7, 7, 0), 1.0);  // 3.7 from the centre
   EXPECT_EQ(image->GetScalarComponentAsDouble(12, 7, 7, 0), 0.0);  // 4.7
+}
+
+// The rounded prisms (shallow fillets: the edges of an n-gon prism turn by
+// 360 / n degrees): Value is the signed distance (so its gradient is the
+// normal, of unit length, near the surface) and Normal agrees with it; the
+// flat faces' normals and the fillet's width are the polygon's.
+TEST(GroundTruth, RoundedPrismIsADistanceWithItsNormal)
+{
+  for (const char* name : { "prism6r6", "prism8r6", "prism12r10" })
+  {
+    auto shape = MakeSmoothShape(name, 64);
+    ASSERT_NE(shape, nullptr) << name;
+    const Vector3d c = Vector3d::Constant(31.5) + Vector3d(0.13, 0.07, 0.11);
+    std::uint64_t state = 7;
+    auto uniform = [&]() {
+      state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+      return static_cast<double>(state >> 11) / 9007199254740992.0;
+    };
+    int checked = 0;
+    for (int i = 0; i < 4000 && checked < 400; ++i)
+    {
+      const Vector3d p = c + 26 * Vector3d(2 * uniform() - 1, 2 * uniform() - 1, 2 * uniform() - 1);
+      if (std::abs(shape->Value(p)) > 1.5)
+        continue;
+      const double h = 1e-5;
+      Vector3d g;
+      for (int k = 0; k < 3; ++k)
+        g[k] = (shape->Value(p + h * Vector3d::Unit(k)) - shape->Value(p - h * Vector3d::Unit(k))) / (2 * h);
+      EXPECT_NEAR(g.norm(), 1.0, 1e-4) << name << " at " << p.transpose();
+      ExpectVec(shape->Normal(p), g.normalized(), 1e-4);
+      ++checked;
+    }
+    EXPECT_GE(checked, 100) << name;
+  }
+  // Axis-aligned (the rotation undone): a hexagon of apothem 0.3 n = 19.2
+  // and half height 14.08, rounded with 6. A face's middle lies at the
+  // apothem, a corner's rounded edge turns the normal by 60 degrees over
+  // 6 pi / 3 = 6.28 of arc, and the ends are flat.
+  auto hex = MakeSmoothShape("prism6r6", 64);
+  const double d = M_PI / 180;
+  const Eigen::Matrix3d R = (Eigen::AngleAxisd(10 * d, Vector3d::UnitZ()) *
+    Eigen::AngleAxisd(30 * d, Vector3d::UnitY()) * Eigen::AngleAxisd(20 * d, Vector3d::UnitX()))
+                              .toRotationMatrix();
+  const Vector3d c = Vector3d::Constant(31.5) + Vector3d(0.13, 0.07, 0.11);
+  EXPECT_NEAR(hex->Value(c + R * Vector3d(19.2, 0, 0)), 0.0, 1e-9);
+  EXPECT_NEAR(hex->Value(c + R * Vector3d(0, 0, 14.08)), 0.0, 1e-9);
+  ExpectVec(hex->Normal(c + R * Vector3d(19.2, 1, 2)), R.col(0));
+  ExpectVec(hex->Normal(c + R * Vector3d(1, 2, 14.08)), R.col(2));
+  // The middle of the rounded edge between the faces at 0 and 60 degrees.
+  const Vector3d mid(std::cos(30 * d), std::sin(30 * d), 0);
+  const double toApex = (19.2 - 6) / std::cos(30 * d) + 6;
+  EXPECT_NEAR(hex->Value(c + R * (toApex * mid)), 0.0, 1e-9);
+  ExpectVec(hex->Normal(c + R * (toApex * mid)), R * mid);
 }

@@ -1,7 +1,8 @@
 // Issue 39: on shapes with no sharp edge, the default output invents no
 // feature line and is never worse than its own input, while the sharp
 // shapes keep theirs (TestSharpFeatures). Ground truth: tori, a sphere,
-// ellipsoids and boxes with rounded edges (dgGroundTruth.h), 64^3 and
+// ellipsoids, boxes with rounded edges and a hexagonal prism whose edges
+// (60-degree turns) are rounded with radius 10 (dgGroundTruth.h), 64^3 and
 // 128^3, clean and at the paper's noise k = 0.3 (two seeds), through the
 // program's defaults (dg::Pipeline) and through the filters' own defaults
 // chained as the ParaView plugin chains them.
@@ -94,10 +95,10 @@ TEST_P(SmoothShapes, NoInventedFeaturesNeverWorseThanTheInput)
     const dgtest::SmoothMetrics noisy = RunProgramDefaults(*shape, n, 0.3, seed);
     std::printf("%s %d k 0.3 s %d %s\n", name.c_str(), n, seed, noisy.Describe().c_str());
     Bounds b;
-    if (n == 64 && !fillet)
+    if (n == 64 && name.rfind("torus", 0) == 0)
     {
       // 64^3 tori (minor radius 10) at k = 0.3: one seed keeps a line on
-      // the inner side (6.3 per 1000, 0.93 % worse); every other smooth
+      // the inner side (6.3 per 1000, 0.90 % worse); every other smooth
       // shape meets the issue's targets (docs/quality.md).
       b.Features = 8;
       b.Worse = 1.5;
@@ -120,7 +121,7 @@ TEST_P(SmoothShapes, NoInventedFeaturesNeverWorseThanTheInput)
 
 INSTANTIATE_TEST_SUITE_P(Shapes, SmoothShapes,
   ::testing::Combine(::testing::Values("torus", "torus2", "sphere", "ellipsoid", "ellipsoid2",
-                       "blobs", "fillet4", "fillet6", "fillet10"),
+                       "blobs", "fillet4", "fillet6", "fillet10", "prism6r10"),
     ::testing::Values(64, 128)),
   [](const auto& info) {
     return std::get<0>(info.param) + std::to_string(std::get<1>(info.param));

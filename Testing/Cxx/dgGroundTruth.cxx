@@ -8,9 +8,11 @@
 #include <vtkPointData.h>
 #include <vtkUnsignedCharArray.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace dgtest
@@ -538,6 +540,93 @@ private:
   double Rho;
 };
 
+// A right prism over a regular polygon of `sides` sides (apothem `apothem`,
+// axis z, half height `halfZ`) whose edges and corners are rounded with
+// `rho`: the points within rho of the prism shrunk by rho. The nearest point
+// of a product of convex sets is the product of the nearest points, so the
+// distance is exact: the polygon's in the plane, the clamp along z.
+class RoundedPrismShape : public ImplicitShape
+{
+public:
+  RoundedPrismShape(const V3& c, const Eigen::Matrix3d& r, int sides, double apothem, double halfZ, double rho)
+    : C(c)
+    , R(r)
+    , Sides(sides)
+    , Apothem(apothem - rho)
+    , HalfZ(halfZ - rho)
+    , Rho(rho)
+  {
+  }
+  std::string Name() const override { return "rounded prism"; }
+  double Value(const V3& p) const override
+  {
+    const V3 l = this->R.transpose() * (p - this->C);
+    const V3 q = this->Nearest(l);
+    const double outside = (l - q).norm();
+    if (outside > 0)
+      return outside - this->Rho;
+    return std::max(this->Inside(l).first, std::abs(l.z()) - this->HalfZ) - this->Rho;
+  }
+  V3 Normal(const V3& p) const override
+  {
+    const V3 l = this->R.transpose() * (p - this->C);
+    V3 n = l - this->Nearest(l);
+    if (n.norm() == 0)
+    {
+      const auto side = this->Inside(l);
+      n = std::abs(l.z()) - this->HalfZ > side.first ? V3(0, 0, l.z() < 0 ? -1 : 1) : side.second;
+    }
+    return this->R * n.normalized();
+  }
+
+private:
+  // The largest signed distance to the polygon's edge lines, and that
+  // edge's outward normal.
+  std::pair<double, V3> Inside(const V3& l) const
+  {
+    std::pair<double, V3> best(-std::numeric_limits<double>::infinity(), V3::UnitX());
+    for (int i = 0; i < this->Sides; ++i)
+    {
+      const double a = 2 * M_PI * i / this->Sides;
+      const V3 n(std::cos(a), std::sin(a), 0);
+      const double d = n.dot(V3(l.x(), l.y(), 0)) - this->Apothem;
+      if (d > best.first)
+        best = { d, n };
+    }
+    return best;
+  }
+  V3 Nearest(const V3& l) const
+  {
+    const double z = std::max(-this->HalfZ, std::min(this->HalfZ, l.z()));
+    const Eigen::Vector2d x(l.x(), l.y());
+    if (this->Inside(l).first <= 0)
+      return V3(x.x(), x.y(), z);
+    // Outside the polygon: the nearest point of its edges.
+    const double corner = this->Apothem / std::cos(M_PI / this->Sides);
+    Eigen::Vector2d best = x;
+    double bestD = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < this->Sides; ++i)
+    {
+      const double a0 = 2 * M_PI * (i - 0.5) / this->Sides, a1 = 2 * M_PI * (i + 0.5) / this->Sides;
+      const Eigen::Vector2d u(corner * std::cos(a0), corner * std::sin(a0));
+      const Eigen::Vector2d v(corner * std::cos(a1), corner * std::sin(a1));
+      const double t = std::max(0.0, std::min(1.0, (x - u).dot(v - u) / (v - u).squaredNorm()));
+      const Eigen::Vector2d e = u + t * (v - u);
+      if ((x - e).squaredNorm() < bestD)
+      {
+        bestD = (x - e).squaredNorm();
+        best = e;
+      }
+    }
+    return V3(best.x(), best.y(), z);
+  }
+
+  V3 C;
+  Eigen::Matrix3d R;
+  int Sides;
+  double Apothem, HalfZ, Rho;
+};
+
 // The soft minimum of the balls' distances. It is not a distance (it lies
 // below the true one by at most s log m), so Normal projects p onto the
 // zero set along the gradient before it reads the normal there.
@@ -641,6 +730,11 @@ std::unique_ptr<ImplicitShape> MakeSmoothShape(const std::string& name, int n)
     }
     return MakeBlobs(centers, scaled, 4 * s);
   }
+  for (int sides : { 6, 8, 12 })
+    for (int radius = 2; radius <= 12; ++radius)
+      if (name == "prism" + std::to_string(sides) + "r" + std::to_string(radius))
+        return std::make_unique<RoundedPrismShape>(
+          c, Rotation(20, 30, 10), sides, 0.3 * n, 0.22 * n, radius);
   for (int radius = 2; radius <= 12; ++radius)
     if (name == "fillet" + std::to_string(radius))
     {
