@@ -5,8 +5,10 @@
 // Usage: BenchFeatureLines [--sizes 64] [--shapes cube,cube2,octahedron,cubesphere]
 //          (also cylinder, wedge, cubesphere-twin: cubesphere's volume voxel for
 //          voxel, with other true circles; and issue 39's smooth and filleted
-//          shapes, torus ... blobs, fillet2 ... fillet12, scored as smooth
-//          shapes: lines per 1000 surfels, errors, share worse than II)
+//          shapes, torus ... blobs, fillet2 ... fillet12, and rounded prisms
+//          prism6r2 ... prism12r12 (edges turning by 60, 45 or 30 degrees),
+//          scored as smooth shapes: lines per 1000 surfels, errors, share
+//          worse than II)
 //          [--noise 0,0.3] [--seeds 1,2] [--radius R] [--alpha A] [--lambda L]
 //          [--islands N (default 8, vtkDigitalIslandFilter; 0 = off)] [--depth D]
 //          [--min-region M] [--angle DEG] [--strong-angle DEG] [--planar-angle DEG] [--edge-angle DEG] [--beta B]

@@ -5,7 +5,8 @@
 // Shapes (dgGroundTruth, grid coordinates = voxel indices): sphere, rotated
 // cube, cube-sphere, cylinder with flat caps, octahedron, wedge (150 degree
 // ridge), and with no sharp edge (issue 39) torus, torus2, ball, ellipsoid, blobs (five
-// blended balls), fillet2 ... fillet12 (a box with rounded edges), digitised at n^3, with the paper's noise model
+// blended balls), fillet2 ... fillet12 (a box with rounded edges), prism6r2 ... prism12r12 (a
+// hexagonal, octagonal or dodecagonal prism with rounded edges), digitised at n^3, with the paper's noise model
 // (vtkDigitalNoiseFilter) at levels k and seeds s. Every method sees the same
 // noisy volume.
 //

@@ -113,7 +113,10 @@ std::unique_ptr<ImplicitShape> MakeBlobs(const std::vector<Eigen::Vector3d>& cen
 /// (TestSmoothShapes and BenchQuality measure the same ones): "torus",
 /// "torus2" (minor radius 0.16 n, two orientations), "sphere" (radius
 /// 0.19 n), "ellipsoid", "ellipsoid2", "filletR" (a rotated box whose edges
-/// are rounded with radius R voxels, R in 2..12) and "blobs" (five balls in
+/// are rounded with radius R voxels, R in 2..12), "prismNrR" (a right prism
+/// over a regular N-gon, N = 6, 8 or 12, apothem 0.3 n, half height 0.22 n,
+/// rotated as the boxes, its edges rounded with radius R in 2..12: the
+/// lateral edges turn by 360 / N degrees) and "blobs" (five balls in
 /// a smooth union: necks and saddles, curvature radius >= 7 voxels at 64^3).
 /// nullptr for any other name.
 std::unique_ptr<ImplicitShape> MakeSmoothShape(const std::string& name, int n);
