@@ -5,7 +5,8 @@ Usage: /usr/bin/python3 Benchmarks/table_smooth.py [--docs DIR] PREFIX [PREFIX .
 
 Reads PREFIX_normals.csv and PREFIX_features.csv of BenchQuality runs on
 the shapes without a sharp edge (torus, torus2, ball, ellipsoid,
-ellipsoid2, blobs, fillet2 ... fillet12), averages over seeds and replaces
+ellipsoid2, blobs, fillet2 ... fillet12, and the rounded prisms prism6r6,
+prism6r10, prism8r6, prism8r10, prism12r6), averages over seeds and replaces
 the text between <!-- BEGIN SMOOTH --> and <!-- END SMOOTH --> in
 DIR/quality.md. Per shape, size and noise level: feature length per 1000
 surfels, mean and 95th percentile of the angle to the true normal, and the
@@ -21,7 +22,8 @@ from collections import defaultdict
 
 BEGIN, END = "<!-- BEGIN SMOOTH -->", "<!-- END SMOOTH -->"
 SHAPES = ["torus", "torus2", "ball", "ellipsoid", "ellipsoid2", "blobs",
-          "fillet2", "fillet4", "fillet6", "fillet8", "fillet10", "fillet12"]
+          "fillet2", "fillet4", "fillet6", "fillet8", "fillet10", "fillet12",
+          "prism6r6", "prism6r10", "prism8r6", "prism8r10", "prism12r6"]
 METHODS = [("II-r4", "II r = 4 (input)"), ("program-plain", "AT alone (`--plain`)"),
            ("program", "program (default)"), ("VTK", "VTK pipeline"),
            ("VTK-strong", "VTK, tuned for noise")]

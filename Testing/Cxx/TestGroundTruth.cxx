@@ -155,10 +155,10 @@ TEST(GroundTruth, RoundedPrismIsADistanceWithItsNormal)
     }
     EXPECT_GE(checked, 100) << name;
   }
-  // Axis-aligned (the rotation undone): a hexagon of apothem 0.3 n = 19.2
-  // and half height 14.08, rounded with 6. A face's middle lies at the
-  // apothem, a corner's rounded edge turns the normal by 60 degrees over
-  // 6 pi / 3 = 6.28 of arc, and the ends are flat.
+  // In the prism's own frame (the rotation undone): a hexagon of apothem
+  // 0.3 n = 19.2 and half height 0.22 n = 14.08, rounded with 6. A face's
+  // middle, a cap's and a rounded edge's lie on the surface with the
+  // polygon's and the cap's normals.
   auto hex = MakeSmoothShape("prism6r6", 64);
   const double d = M_PI / 180;
   const Eigen::Matrix3d R = (Eigen::AngleAxisd(10 * d, Vector3d::UnitZ()) *

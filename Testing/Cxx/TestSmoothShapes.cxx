@@ -70,7 +70,6 @@ TEST_P(SmoothShapes, NoInventedFeaturesNeverWorseThanTheInput)
   const int n = std::get<1>(GetParam());
   auto shape = dgtest::MakeSmoothShape(name, n);
   ASSERT_NE(shape, nullptr);
-  const bool fillet = name.rfind("fillet", 0) == 0;
 
   const dgtest::SmoothMetrics clean = RunProgramDefaults(*shape, n, 0.0, 1);
   std::printf("%s %d k 0   %s\n", name.c_str(), n, clean.Describe().c_str());
