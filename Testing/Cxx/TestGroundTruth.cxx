@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdint>
+#include <random>
 
 using Eigen::Vector3d;
 using namespace dgtest;
@@ -15,6 +15,15 @@ namespace
 void ExpectVec(const Vector3d& a, const Vector3d& b, double tol = 1e-9)
 {
   EXPECT_NEAR((a - b).norm(), 0.0, tol) << a.transpose() << " vs " << b.transpose();
+}
+
+// The rotation of the rotated test shapes, (20, 30, 10) degrees, R = Rz Ry Rx.
+Eigen::Matrix3d TestRotation()
+{
+  const double d = M_PI / 180;
+  return (Eigen::AngleAxisd(10 * d, Vector3d::UnitZ()) * Eigen::AngleAxisd(30 * d, Vector3d::UnitY()) *
+    Eigen::AngleAxisd(20 * d, Vector3d::UnitX()))
+    .toRotationMatrix();
 }
 } // namespace
 
@@ -43,10 +52,7 @@ TEST(GroundTruth, AxisAlignedAndRotatedCube)
   // Rotated by (20, 30, 10) degrees: the face normals are R's columns, the
   // corners R (+-h, +-h, +-h), and the edges still total 12 * 2h.
   auto rc = MakeRotatedCube(c, 8, 20, 30, 10);
-  const double d = M_PI / 180;
-  const Eigen::Matrix3d R = (Eigen::AngleAxisd(10 * d, Vector3d::UnitZ()) *
-    Eigen::AngleAxisd(30 * d, Vector3d::UnitY()) * Eigen::AngleAxisd(20 * d, Vector3d::UnitX()))
-                              .toRotationMatrix();
+  const Eigen::Matrix3d R = TestRotation();
   ExpectVec(rc->Normal(c + R * Vector3d(0.5, 0.2, 7.9)), R.col(2));
   ExpectVec(rc->Normal(c + R * Vector3d(-8.1, 0.2, 1)), -R.col(0));
   EXPECT_NEAR(rc->DistanceToSharpEdge(c + R * Vector3d(8, -8, 8)), 0.0, 1e-9);
@@ -129,20 +135,18 @@ TEST(GroundTruth, DigitizeAndSurfelCenters)
 // flat faces' normals and the fillet's width are the polygon's.
 TEST(GroundTruth, RoundedPrismIsADistanceWithItsNormal)
 {
+  // MakeSmoothShape's centre at 64^3.
+  const Vector3d c = Vector3d::Constant(31.5) + Vector3d(0.13, 0.07, 0.11);
   for (const char* name : { "prism6r6", "prism8r6", "prism12r10" })
   {
     auto shape = MakeSmoothShape(name, 64);
     ASSERT_NE(shape, nullptr) << name;
-    const Vector3d c = Vector3d::Constant(31.5) + Vector3d(0.13, 0.07, 0.11);
-    std::uint64_t state = 7;
-    auto uniform = [&]() {
-      state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-      return static_cast<double>(state >> 11) / 9007199254740992.0;
-    };
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> offset(-26, 26);
     int checked = 0;
     for (int i = 0; i < 4000 && checked < 400; ++i)
     {
-      const Vector3d p = c + 26 * Vector3d(2 * uniform() - 1, 2 * uniform() - 1, 2 * uniform() - 1);
+      const Vector3d p = c + Vector3d(offset(rng), offset(rng), offset(rng));
       if (std::abs(shape->Value(p)) > 1.5)
         continue;
       const double h = 1e-5;
@@ -160,11 +164,8 @@ TEST(GroundTruth, RoundedPrismIsADistanceWithItsNormal)
   // middle, a cap's and a rounded edge's lie on the surface with the
   // polygon's and the cap's normals.
   auto hex = MakeSmoothShape("prism6r6", 64);
+  const Eigen::Matrix3d R = TestRotation();
   const double d = M_PI / 180;
-  const Eigen::Matrix3d R = (Eigen::AngleAxisd(10 * d, Vector3d::UnitZ()) *
-    Eigen::AngleAxisd(30 * d, Vector3d::UnitY()) * Eigen::AngleAxisd(20 * d, Vector3d::UnitX()))
-                              .toRotationMatrix();
-  const Vector3d c = Vector3d::Constant(31.5) + Vector3d(0.13, 0.07, 0.11);
   EXPECT_NEAR(hex->Value(c + R * Vector3d(19.2, 0, 0)), 0.0, 1e-9);
   EXPECT_NEAR(hex->Value(c + R * Vector3d(0, 0, 14.08)), 0.0, 1e-9);
   ExpectVec(hex->Normal(c + R * Vector3d(19.2, 1, 2)), R.col(0));
