@@ -4,7 +4,9 @@
 //
 // Usage: BenchFeatureLines [--sizes 64] [--shapes cube,cube2,octahedron,cubesphere]
 //          (also cylinder, wedge, cubesphere-twin: cubesphere's volume voxel for
-//          voxel, with other true circles; and issue 39's smooth and filleted
+//          voxel, with other true circles; mixed2 ... mixed12, a box whose four
+//          edges along one axis are sharp and whose other eight are rounded
+//          with that radius; and issue 39's smooth and filleted
 //          shapes, torus ... blobs, fillet2 ... fillet12, and rounded prisms
 //          prism6r2 ... prism12r12 (edges turning by 60, 45 or 30 degrees),
 //          scored as smooth shapes: lines per 1000 surfels, errors, share
@@ -113,6 +115,10 @@ std::unique_ptr<dgtest::ImplicitShape> MakeShape(const std::string& name, int n)
     return dgtest::MakeCylinder(c, 0.32 * n, 0.3 * n);
   if (name == "wedge")
     return dgtest::MakeWedge(c, 0.3 * n);
+  // Sharp edges that end in fillets: "mixedR", the fillets' radius R voxels.
+  for (int radius = 2; radius <= 12; ++radius)
+    if (name == "mixed" + std::to_string(radius))
+      return dgtest::MakeMixedBox(c, V3(0.3, 0.22, 0.18) * n, radius, 20, 30, 10);
   // The smooth and filleted shapes of issue 39 (no sharp edge): scored by
   // dgtest::MeasureSmooth instead.
   return dgtest::MakeSmoothShape(name, n);

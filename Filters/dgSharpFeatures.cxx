@@ -499,6 +499,9 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
     }
   }
 
+  // Per graph edge: whether the line through it is drawn, from its last
+  // test (-1: never tested, drawn if it separates two regions).
+  std::vector<signed char> edgeCrease;
   // 7. Creases and bends (dgSharpFeaturesCreases.h): every line left
   // between two merged parts is tested against the input normals beyond
   // their blur and against the corner its sides make. AT's normals jump
@@ -514,6 +517,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
     CreaseTestSettings cs;
     cs.Near = 0.75 * par.InputRadius * meanEdge2;
     cs.Far = cs.Near + 5.0 * meanEdge2;
+    cs.Stretch = cs.Far;
     cs.MinimumAngle = par.MinimumFeatureAngle;
     cs.CornerDepth = par.CornerDepth * meanEdge2;
     cs.MinimumTurnShare = par.MinimumTurnShare;
@@ -526,12 +530,13 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
     constexpr int CreaseRounds = 3;
     std::vector<int> group(F, -1);
     std::map<std::pair<int, int>, CreaseVerdict> known;
+    edgeCrease.assign(E, -1);
     for (int round = 0; round < CreaseRounds; ++round)
     {
       for (std::int64_t f = 0; f < F; ++f)
         group[f] = assigned[f] >= 0 ? uf.Find(assigned[f]) : -1;
       const std::vector<CreaseVerdict> verdicts =
-        TestCreases(graph, centre, areaVector, input, out, group, cornerDepth, cs, known);
+        TestCreases(graph, centre, areaVector, input, out, group, cornerDepth, cs, known, edgeCrease);
       known.clear();
       for (const CreaseVerdict& c : verdicts)
         known[{ c.A, c.B }] = c;
@@ -629,7 +634,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       {
         const std::int64_t fa = graph.EdgeFaces[a], fb = graph.EdgeFaces[b];
         const int ra = result.Region[fa], rb = result.Region[fb];
-        if (ra >= 0 && rb >= 0 && ra != rb)
+        if (ra >= 0 && rb >= 0 && ra != rb && (edgeCrease.empty() || edgeCrease[e] != 0))
           angle = std::max(angle, AngleDegrees(out[fa], out[fb]));
       }
     if (angle >= 0)
@@ -677,7 +682,7 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
         for (std::int64_t b = a + 1; b < graph.EdgeFacePtr[e + 1]; ++b)
         {
           const int ra = result.Region[graph.EdgeFaces[a]], rb = result.Region[graph.EdgeFaces[b]];
-          crease[e] |= ra >= 0 && rb >= 0 && ra != rb;
+          crease[e] |= ra >= 0 && rb >= 0 && ra != rb && (edgeCrease.empty() || edgeCrease[e] != 0);
         }
       if (crease[e])
         for (std::int64_t a = graph.EdgeFacePtr[e]; a < graph.EdgeFacePtr[e + 1]; ++a)

@@ -36,10 +36,11 @@ double Angle(const Vec3& a, const Vec3& b)
   return std::acos(std::max(-1.0, std::min(1.0, c))) * Degrees;
 }
 
-// An edge between two groups' faces, A in the smaller group.
+// An edge between two groups' faces, A in the smaller group; E the graph
+// edge.
 struct LineEdge
 {
-  std::int64_t A, B;
+  std::int64_t A, B, E;
 };
 
 struct FitScratch : BreadthScratch
@@ -160,70 +161,194 @@ TurnSums MeasureTurn(const std::vector<Vec3>& centre, const std::vector<Vec3>& a
   return out;
 }
 
+// What a verdict reads: per edge of a line (or of a stretch of it), the
+// extrapolated jump and each side's turn rate towards the other, the
+// voxel-scale turn, the stage's side normals' angle; per face at the line,
+// its fit's residual and its corner depth.
+struct Evidence
+{
+  std::vector<double> Jumps, RateA, RateB, Residuals, Depths, NearTurns, FarTurns, SideJumps;
+  void Clear()
+  {
+    for (auto* v : { &Jumps, &RateA, &RateB, &Residuals, &Depths, &NearTurns, &FarTurns, &SideJumps })
+      v->clear();
+  }
+};
+
+// One edge's share of the evidence (turn: whether its voxel-scale turn is
+// read).
+void AddEdge(Evidence& ev, const LineEdge& be, const std::vector<int>& slot,
+  const std::vector<SideFit>& fits, const std::vector<TurnSums>& turns, const std::vector<Vec3>& sides,
+  bool turn)
+{
+  const TurnSums &ta = turns[slot[be.A]], &tb = turns[slot[be.B]];
+  if (turn && ta.NearCount >= 3 && tb.NearCount >= 3 && ta.FarCount >= 3 && tb.FarCount >= 3)
+  {
+    ev.NearTurns.push_back(Angle(ta.Near, tb.Near));
+    ev.FarTurns.push_back(Angle(ta.Far, tb.Far));
+  }
+  ev.SideJumps.push_back(Angle(sides[be.A], sides[be.B]));
+  const SideFit &fa = fits[slot[be.A]], &fb = fits[slot[be.B]];
+  if (!fa.Valid || !fb.Valid)
+    return;
+  ev.Jumps.push_back(Angle(fa.Normal, fb.Normal));
+  // How fast each side turns towards the other as it nears the line.
+  const Vec3 j = (fb.Normal.Unit() - fa.Normal.Unit()).Unit();
+  ev.RateA.push_back(fa.Rate.Dot(j) * Degrees);
+  ev.RateB.push_back(-fb.Rate.Dot(j) * Degrees);
+}
+
+// One face's share (a face at the line).
+void AddFace(Evidence& ev, std::int64_t f, const SideFit& fit, const std::vector<double>& cornerDepth)
+{
+  if (fit.Valid)
+    ev.Residuals.push_back(fit.Residual);
+  if (std::isfinite(cornerDepth[f]))
+    ev.Depths.push_back(cornerDepth[f]);
+}
+
+// The verdict on the evidence (dgSharpFeaturesCreases.h says what makes a
+// crease); A, B and Edges are the caller's.
+CreaseVerdict Judge(const Evidence& ev, const CreaseTestSettings& settings)
+{
+  CreaseVerdict v;
+  v.Jump = Median(ev.Jumps);
+  v.Depth = Median(ev.Depths);
+  const double farTurn = Median(ev.FarTurns);
+  v.TurnShare = farTurn > 0 ? Median(ev.NearTurns) / farTurn : std::numeric_limits<double>::quiet_NaN();
+  const double curvature = ev.Jumps.empty()
+    ? 0.0
+    : std::max(0.0, std::max(Median(ev.RateA), Median(ev.RateB))) * settings.Near;
+  v.Allowance =
+    curvature + settings.NoiseFactor * (ev.Residuals.empty() ? 0.0 : Median(ev.Residuals));
+  // Two sides facing apart (the two faces of a slab thinner than AT's
+  // band, their normals 150-180 degrees apart) make no corner to cut.
+  const double sideJump = Median(ev.SideJumps);
+  const bool deep = static_cast<int>(ev.Depths.size()) >= settings.MinimumSamples &&
+    v.Depth > settings.CornerDepth && sideJump < 120;
+  // Sides too narrow to be fitted beyond the blur (a slab a few voxels
+  // thick) show no crease.
+  const bool fitted = static_cast<int>(ev.Jumps.size()) >= settings.MinimumSamples;
+  // A slab's two faces (sides facing apart) make no turn to measure.
+  const bool turning = static_cast<int>(ev.NearTurns.size()) >= settings.MinimumSamples &&
+    sideJump < 120 && v.TurnShare < settings.MinimumTurnShare;
+  v.Crease = fitted && !deep && !turning && v.Jump >= settings.MinimumAngle + v.Allowance;
+  v.Deep = deep;
+  return v;
+}
+
+enum StretchClass : char
+{
+  StretchDeep = -1, // its voxels cut the corner: a bend
+  StretchOther = 0,
+  StretchCrease = 1,
+  StretchClear = 2 // a crease by twice the margins
+};
+
+// Each edge of a line judged on the line's edges within Stretch of it
+// (their midpoints), in the edges' order; the faces' evidence counts once
+// per stretch.
+std::vector<char> JudgeStretches(const std::vector<LineEdge>& edges, const std::vector<Vec3>& centre,
+  const std::vector<int>& slot, const std::vector<SideFit>& fits, const std::vector<TurnSums>& turns,
+  const std::vector<Vec3>& sides, const std::vector<double>& cornerDepth,
+  const CreaseTestSettings& settings)
+{
+  const std::size_t n = edges.size();
+  std::vector<Vec3> mid(n);
+  for (std::size_t i = 0; i < n; ++i)
+    mid[i] = (centre[edges[i].A] + centre[edges[i].B]) * 0.5;
+  // The midpoints in cells of Stretch: a stretch is the 27 cells around.
+  const double cell = settings.Stretch;
+  auto key = [&](const Vec3& x, int dx, int dy, int dz) {
+    const auto c = [&](double v, int d) {
+      return (static_cast<std::int64_t>(std::floor(v / cell)) + d) & 0x1FFFFF;
+    };
+    return (c(x.x, dx) << 42) | (c(x.y, dy) << 21) | c(x.z, dz);
+  };
+  std::vector<std::pair<std::int64_t, std::uint32_t>> cells(n);
+  for (std::size_t i = 0; i < n; ++i)
+    cells[i] = { key(mid[i], 0, 0, 0), static_cast<std::uint32_t>(i) };
+  std::sort(cells.begin(), cells.end());
+  // Calls visit(j) for every edge j within Stretch of edge i (i included).
+  auto around = [&](std::size_t i, const auto& visit) {
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz)
+        {
+          const std::int64_t k = key(mid[i], dx, dy, dz);
+          auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(k, std::uint32_t(0)));
+          for (; it != cells.end() && it->first == k; ++it)
+            if ((mid[it->second] - mid[i]).Norm() <= settings.Stretch)
+              visit(it->second);
+        }
+  };
+  std::vector<char> crease(n, 0);
+  vtkSMPThreadLocal<std::pair<Evidence, std::vector<std::int64_t>>> scratch;
+  vtkSMPTools::For(0, static_cast<std::int64_t>(n), [&](std::int64_t b, std::int64_t e) {
+    auto& local = scratch.Local();
+    Evidence& ev = local.first;
+    std::vector<std::int64_t>& faces = local.second;
+    for (std::int64_t i = b; i < e; ++i)
+    {
+      ev.Clear();
+      faces.clear();
+      around(i, [&](std::uint32_t j) {
+        AddEdge(ev, edges[j], slot, fits, turns, sides, true);
+        faces.push_back(edges[j].A);
+        faces.push_back(edges[j].B);
+      });
+      std::sort(faces.begin(), faces.end());
+      faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+      for (std::int64_t f : faces)
+        AddFace(ev, f, fits[slot[f]], cornerDepth);
+      const CreaseVerdict jv = Judge(ev, settings);
+      // Clear: a crease with twice the margins a whole line needs.
+      const bool clear = jv.Crease && jv.Jump >= 2 * settings.MinimumAngle + jv.Allowance &&
+        jv.Depth <= 0.5 * settings.CornerDepth &&
+        jv.TurnShare >= 0.5 * (1 + settings.MinimumTurnShare);
+      crease[i] = static_cast<char>(jv.Deep ? StretchDeep
+          : clear                          ? StretchClear
+          : jv.Crease                      ? StretchCrease
+                                           : StretchOther);
+    }
+  });
+  // A bend or a clear crease only as a stretch of its kind at least
+  // MinimumStretchEdges long: a few edges' windows tip either way under
+  // noise.
+  std::vector<char> kept(crease);
+  vtkSMPTools::For(0, static_cast<std::int64_t>(n), [&](std::int64_t b, std::int64_t e) {
+    for (std::int64_t i = b; i < e; ++i)
+    {
+      if (crease[i] != StretchDeep && crease[i] != StretchClear)
+        continue;
+      int same = 0;
+      around(i, [&](std::uint32_t j) { same += crease[j] == crease[i]; });
+      if (same < settings.MinimumStretchEdges)
+        kept[i] = crease[i] == StretchDeep ? StretchOther : StretchCrease;
+    }
+  });
+  crease.swap(kept);
+  return crease;
+}
+
 // The verdict on the line between groups a and b (edges, A on a's side)
-// from its seeds' fits and turns (by slot), the stage's side normals and the
-// band faces' corner depths (dgSharpFeaturesCreases.h says what makes a
-// crease).
+// from its seeds' fits and turns (by slot; the turn on the edges `sampled`
+// marks), the stage's side normals and the band faces' corner depths.
 CreaseVerdict Decide(int a, int b, const std::vector<LineEdge>& edges,
   const std::vector<std::int64_t>& seeds, const std::vector<int>& slot,
   const std::vector<SideFit>& fits, const std::vector<TurnSums>& turns,
   const std::vector<Vec3>& sides, const std::vector<double>& cornerDepth,
-  const CreaseTestSettings& settings)
+  const std::vector<char>& sampled, const CreaseTestSettings& settings)
 {
-  CreaseVerdict v;
+  Evidence ev;
+  for (std::size_t i = 0; i < edges.size(); ++i)
+    AddEdge(ev, edges[i], slot, fits, turns, sides, sampled[i] != 0);
+  for (std::size_t i = 0; i < seeds.size(); ++i)
+    AddFace(ev, seeds[i], fits[i], cornerDepth);
+  CreaseVerdict v = Judge(ev, settings);
   v.A = a;
   v.B = b;
   v.Edges = static_cast<int>(edges.size());
-  std::vector<double> jumps, rateA, rateB, residuals, depths, nearTurns, farTurns;
-  for (const LineEdge& be : edges)
-  {
-    const TurnSums &ta = turns[slot[be.A]], &tb = turns[slot[be.B]];
-    if (ta.NearCount >= 3 && tb.NearCount >= 3 && ta.FarCount >= 3 && tb.FarCount >= 3)
-    {
-      nearTurns.push_back(Angle(ta.Near, tb.Near));
-      farTurns.push_back(Angle(ta.Far, tb.Far));
-    }
-    const SideFit &fa = fits[slot[be.A]], &fb = fits[slot[be.B]];
-    if (!fa.Valid || !fb.Valid)
-      continue;
-    jumps.push_back(Angle(fa.Normal, fb.Normal));
-    // How fast each side turns towards the other as it nears the line.
-    const Vec3 j = (fb.Normal.Unit() - fa.Normal.Unit()).Unit();
-    rateA.push_back(fa.Rate.Dot(j) * Degrees);
-    rateB.push_back(-fb.Rate.Dot(j) * Degrees);
-  }
-  for (std::size_t i = 0; i < seeds.size(); ++i)
-  {
-    const std::int64_t f = seeds[i];
-    if (fits[i].Valid)
-      residuals.push_back(fits[i].Residual);
-    if (std::isfinite(cornerDepth[f]))
-      depths.push_back(cornerDepth[f]);
-  }
-  v.Jump = Median(jumps);
-  v.Depth = Median(depths);
-  const double farTurn = Median(farTurns);
-  v.TurnShare = farTurn > 0 ? Median(nearTurns) / farTurn : std::numeric_limits<double>::quiet_NaN();
-  const double curvature = jumps.empty()
-    ? 0.0
-    : std::max(0.0, std::max(Median(rateA), Median(rateB))) * settings.Near;
-  v.Allowance = curvature + settings.NoiseFactor * (residuals.empty() ? 0.0 : Median(residuals));
-  // Two sides facing apart (the two faces of a slab thinner than AT's
-  // band, their normals 150-180 degrees apart) make no corner to cut.
-  std::vector<double> sideJumps;
-  for (const LineEdge& be : edges)
-    sideJumps.push_back(Angle(sides[be.A], sides[be.B]));
-  const double sideJump = Median(sideJumps);
-  const bool deep = static_cast<int>(depths.size()) >= settings.MinimumSamples &&
-    v.Depth > settings.CornerDepth && sideJump < 120;
-  // Sides too narrow to be fitted beyond the blur (a slab a few voxels
-  // thick): a crease when the stage's own side normals jump by a sure
-  // angle across the line and its voxels reach the corner.
-  const bool fitted = static_cast<int>(jumps.size()) >= settings.MinimumSamples;
-  // A slab's two faces (sides facing apart) make no turn to measure.
-  const bool turning = static_cast<int>(nearTurns.size()) >= settings.MinimumSamples &&
-    sideJump < 120 && v.TurnShare < settings.MinimumTurnShare;
-  v.Crease = fitted && !deep && !turning && v.Jump >= settings.MinimumAngle + v.Allowance;
   return v;
 }
 
@@ -232,7 +357,7 @@ CreaseVerdict Decide(int a, int b, const std::vector<LineEdge>& edges,
 std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector<Vec3>& centre,
   const std::vector<Vec3>& area, const std::vector<Vec3>& input, const std::vector<Vec3>& sides,
   const std::vector<int>& group, const std::vector<double>& cornerDepth, const CreaseTestSettings& settings,
-  const std::map<std::pair<int, int>, CreaseVerdict>& known)
+  const std::map<std::pair<int, int>, CreaseVerdict>& known, std::vector<signed char>& edgeCrease)
 {
   const std::int64_t F = static_cast<std::int64_t>(group.size());
   std::map<std::pair<int, int>, std::vector<LineEdge>> lines;
@@ -246,7 +371,7 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
           continue;
         if (group[fa] > group[fb])
           std::swap(fa, fb);
-        lines[{ group[fa], group[fb] }].push_back({ fa, fb });
+        lines[{ group[fa], group[fb] }].push_back({ fa, fb, e });
       }
 
   // Per line: every face within Far of it (nearest line face in face steps)
@@ -261,7 +386,7 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
   std::vector<int> slot(F, -1);
   std::vector<SideFit> fits;
   std::vector<TurnSums> turns;
-  std::vector<char> turnSeed(F, 0);
+  std::vector<char> turnSeed(F, 0), sampled;
   constexpr std::size_t TurnSamples = 16;
   vtkSMPThreadLocal<FitScratch> scratch;
   std::vector<CreaseVerdict> verdicts;
@@ -305,13 +430,16 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
       slot[seeds[i]] = static_cast<int>(i);
     fits.assign(seeds.size(), SideFit());
     turns.assign(seeds.size(), TurnSums());
-    // The turn's medians need no more than about TurnSamples edges per
-    // line: every stride-th edge's two faces measure it.
+    // Every line face measures the turn for the stretches; the line's own
+    // medians read about TurnSamples edges, every stride-th.
+    sampled.assign(line.second.size(), 0);
     if (turn)
     {
+      for (std::int64_t f : seeds)
+        turnSeed[f] = 1;
       const std::size_t stride = std::max<std::size_t>(1, line.second.size() / TurnSamples);
       for (std::size_t k = 0; k < line.second.size(); k += stride)
-        turnSeed[line.second[k].A] = turnSeed[line.second[k].B] = 1;
+        sampled[k] = 1;
     }
     for (std::size_t h = 0; h < reached.size(); ++h)
     {
@@ -365,8 +493,22 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
       }
     });
 
-    verdicts.push_back(Decide(line.first.first, line.first.second, line.second, seeds, slot, fits,
-      turns, sides, cornerDepth, settings));
+    CreaseVerdict v = Decide(line.first.first, line.first.second, line.second, seeds, slot, fits,
+      turns, sides, cornerDepth, sampled, settings);
+    // The line's stretches: where a crease runs on into a bend (a sharp
+    // edge ending in a fillet), only the crease's stretch is one; a line
+    // that the whole reads as a bend still keeps its sides apart when a
+    // long enough stretch of it is a crease.
+    const std::vector<char> stretch =
+      JudgeStretches(line.second, centre, slot, fits, turns, sides, cornerDepth, settings);
+    const int creaseEdges = static_cast<int>(std::count(stretch.begin(), stretch.end(), StretchClear));
+    v.StretchEdges = creaseEdges;
+    const bool whole = v.Crease;
+    v.Crease = whole || creaseEdges >= settings.MinimumStretchEdges;
+    for (std::size_t i = 0; i < line.second.size(); ++i)
+      edgeCrease[line.second[i].E] =
+        static_cast<signed char>(whole ? stretch[i] != StretchDeep : stretch[i] == StretchClear);
+    verdicts.push_back(v);
     for (std::int64_t f : reached)
     {
       seedOf[f] = -1;

@@ -28,6 +28,18 @@
 // meet near the line at most of the angle they make farther out; a bend of
 // radius rho turns by about 2 s / rho within s of its middle. A line whose
 // near angle is below MinimumTurnShare of its far angle is a bend.
+//
+// A line is the whole boundary between two groups, and two groups can meet
+// along a crease and a bend at once: a sharp edge that ends where fillets
+// round the part's other edges, whose sides have merged with the fillets'
+// far side, meets it along the fillets too. So each edge of a line is also
+// judged on the stretch of the line within Stretch of it, by the same
+// rule. On a line that is a crease, a stretch whose voxels cut the corner
+// (deep) is a bend and is not drawn; a line that is a bend keeps its sides
+// apart when a stretch is clearly a crease (twice the margins: jump,
+// corner depth, turn share), and only that stretch is drawn. Either kind
+// counts only as a stretch of at least MinimumStretchEdges edges: a few
+// edges' stretches tip either way under noise.
 #ifndef dgSharpFeaturesCreases_h
 #define dgSharpFeaturesCreases_h
 
@@ -55,6 +67,10 @@ struct CreaseTestSettings
   // along the line each sample takes).
   double TurnNear = 2.5, TurnFarFrom = 4.5, TurnFar = 9.5, TurnSlab = 2.5;
   double MinimumTurnShare = 0.5;
+  // Stretches: each edge judged on the line's edges within Stretch (a
+  // length) of it, a stretch counting from MinimumStretchEdges edges.
+  double Stretch = 8;
+  int MinimumStretchEdges = 12;
 };
 
 struct CreaseVerdict
@@ -66,6 +82,8 @@ struct CreaseVerdict
   double Depth = 0;     // median corner depth (length; NaN without samples)
   double TurnShare = 0; // median near angle over median far angle (NaN without samples)
   int Edges = 0;
+  int StretchEdges = 0; // edges whose stretch is clearly a crease
+  bool Deep = false;    // the voxels cut the corner (a bend, whatever the jump)
 };
 
 /// group: per face, its smooth part (-1: none); centre, area, input, sides:
@@ -76,11 +94,13 @@ struct CreaseVerdict
 /// known: verdicts that still hold, by (A, B): a verdict depends only on
 /// its two groups' faces, so a line between groups that have not changed
 /// since it was tested is not tested again.
+/// edgeCrease: per graph edge, set for the edges of every line tested now:
+/// 1 where the line is drawn (a crease's stretch), 0 where it is not.
 /// One verdict per pair of groups that share an edge, in (A, B) order.
 std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector<Vec3>& centre,
   const std::vector<Vec3>& area, const std::vector<Vec3>& input, const std::vector<Vec3>& sides,
   const std::vector<int>& group, const std::vector<double>& cornerDepth, const CreaseTestSettings& settings,
-  const std::map<std::pair<int, int>, CreaseVerdict>& known);
+  const std::map<std::pair<int, int>, CreaseVerdict>& known, std::vector<signed char>& edgeCrease);
 
 } // namespace sharp
 } // namespace dg

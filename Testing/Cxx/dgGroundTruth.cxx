@@ -540,6 +540,66 @@ private:
   double Rho;
 };
 
+// A box (half sides a, b, c along its local x, y, z) whose eight edges
+// around its two z faces are rounded with radius rho and whose four edges
+// along z are sharp: the intersection of two extruded rounded rectangles,
+// one in (x, z), one in (y, z). Each is a distance, their maximum is one
+// inside and on the surface; the normal is the larger one's. The sharp
+// edges run where both are flat, |z| <= c - rho; past that the two fillets
+// meet along a crease that fades from 90 degrees to none at the z faces,
+// which the edge list leaves out.
+class MixedBoxShape : public ImplicitShape
+{
+public:
+  MixedBoxShape(const V3& c, const Eigen::Matrix3d& r, const V3& half, double rho)
+    : C(c)
+    , R(r)
+    , Half(half)
+    , Rho(rho)
+  {
+    for (double sx : { -1.0, 1.0 })
+      for (double sy : { -1.0, 1.0 })
+        this->AddPolyline({ c + r * V3(sx * half.x(), sy * half.y(), -(half.z() - rho)),
+          c + r * V3(sx * half.x(), sy * half.y(), half.z() - rho) });
+  }
+  std::string Name() const override { return "box with sharp and rounded edges"; }
+  double Value(const V3& p) const override
+  {
+    const V3 l = this->R.transpose() * (p - this->C);
+    return std::max(this->Profile(l.x(), l.z(), this->Half.x()).first,
+      this->Profile(l.y(), l.z(), this->Half.y()).first);
+  }
+  V3 Normal(const V3& p) const override
+  {
+    const V3 l = this->R.transpose() * (p - this->C);
+    const auto x = this->Profile(l.x(), l.z(), this->Half.x());
+    const auto y = this->Profile(l.y(), l.z(), this->Half.y());
+    const V3 n = x.first >= y.first ? V3(x.second.x(), 0, x.second.y()) : V3(0, y.second.x(), y.second.y());
+    return this->R * n;
+  }
+
+private:
+  // The signed distance to the rectangle |u| <= hu, |v| <= Half.z with
+  // rounded corners, and its outward unit gradient.
+  std::pair<double, Eigen::Vector2d> Profile(double u, double v, double hu) const
+  {
+    const Eigen::Vector2d q(std::abs(u) - (hu - this->Rho), std::abs(v) - (this->Half.z() - this->Rho));
+    Eigen::Vector2d g = q.cwiseMax(0.0);
+    double d = g.norm() + std::min(q.maxCoeff(), 0.0) - this->Rho;
+    if (g.norm() > 0)
+      g.normalize();
+    else
+      g = q.x() > q.y() ? Eigen::Vector2d(1, 0) : Eigen::Vector2d(0, 1);
+    g.x() = u < 0 ? -g.x() : g.x();
+    g.y() = v < 0 ? -g.y() : g.y();
+    return { d, g };
+  }
+  V3 C;
+  Eigen::Matrix3d R;
+  V3 Half;
+  double Rho;
+};
+
 // A right prism over a regular polygon of `sides` sides (apothem `apothem`,
 // axis z, half height `halfZ`) whose edges and corners are rounded with
 // `rho`: the points within rho of the prism shrunk by rho. The nearest point
@@ -756,6 +816,12 @@ std::unique_ptr<ImplicitShape> MakeEllipsoid(
   const Eigen::Vector3d& center, const Eigen::Vector3d& axes, double ax, double ay, double az)
 {
   return std::make_unique<EllipsoidShape>(center, Rotation(ax, ay, az), axes);
+}
+
+std::unique_ptr<ImplicitShape> MakeMixedBox(const Eigen::Vector3d& center,
+  const Eigen::Vector3d& half, double radius, double ax, double ay, double az)
+{
+  return std::make_unique<MixedBoxShape>(center, Rotation(ax, ay, az), half, radius);
 }
 
 std::unique_ptr<ImplicitShape> MakeRoundedBox(const Eigen::Vector3d& center,

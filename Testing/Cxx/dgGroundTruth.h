@@ -104,6 +104,13 @@ std::unique_ptr<ImplicitShape> MakeEllipsoid(
   const Eigen::Vector3d& center, const Eigen::Vector3d& axes, double ax, double ay, double az);
 std::unique_ptr<ImplicitShape> MakeRoundedBox(const Eigen::Vector3d& center,
   const Eigen::Vector3d& half, double radius, double ax, double ay, double az);
+/// A box of half sides `half` whose eight edges around its two z faces are
+/// rounded with `radius` and whose four edges along z are sharp (a
+/// machined part's mix: sharp edges that end in fillets), rotated as
+/// above; its sharp edges are the four straight ones, where both sides are
+/// flat.
+std::unique_ptr<ImplicitShape> MakeMixedBox(const Eigen::Vector3d& center,
+  const Eigen::Vector3d& half, double radius, double ax, double ay, double az);
 /// A smooth union of balls (centres, radii): the zero set of the soft
 /// minimum -s log sum_i exp(-(|x - c_i| - r_i) / s) of their distances, with
 /// necks where two balls meet and saddles where three do; `blend` is s.
