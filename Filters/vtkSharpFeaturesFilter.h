@@ -33,8 +33,14 @@
  *   by MinimumFeatureAngle more than the sides' own curvature and the
  *   fits' noise explain, the band's voxels must reach the corner the two
  *   sides make (within CornerDepth), and the voxel faces must turn at the
- *   line rather than across the width of a fillet (MinimumTurnShare);
- * - the feature lines are the edges between faces of different regions;
+ *   line rather than across the width of a fillet (MinimumTurnShare). Each
+ *   stretch of a line is judged too (the line's edges within the fit
+ *   window's reach): on a crease's line a stretch whose voxels cut the
+ *   corner is not drawn, and a bend's line keeps its sides apart where a
+ *   stretch is clearly a crease (a sharp edge that ends in fillets);
+ * - the feature lines are the edges between faces of different regions,
+ *   but for the stretches found to be bends (FeatureRegion still changes
+ *   there);
  * - the output normals are a twiced Gaussian mean of the input normals
  *   (the side normals within SearchDepth of a line; away from the lines
  *   and AT's band, the input blended with AT's normals as much as the
