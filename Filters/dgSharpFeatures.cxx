@@ -625,20 +625,26 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
     out.swap(smooth);
   }
 
-  // 5. Feature edges: between faces of different regions.
+  // 5. Feature edges: between faces of different regions, but for the
+  // stretches step 7 found to be bends. The output field keeps to their
+  // sides (crease).
+  std::vector<char> crease(E, 0);
   for (std::int64_t e = 0; e < E; ++e)
   {
+    if (edgeCrease[e] == 0)
+      continue;
     double angle = -1;
     for (std::int64_t a = graph.EdgeFacePtr[e]; a < graph.EdgeFacePtr[e + 1]; ++a)
       for (std::int64_t b = a + 1; b < graph.EdgeFacePtr[e + 1]; ++b)
       {
         const std::int64_t fa = graph.EdgeFaces[a], fb = graph.EdgeFaces[b];
         const int ra = result.Region[fa], rb = result.Region[fb];
-        if (ra >= 0 && rb >= 0 && ra != rb && (edgeCrease.empty() || edgeCrease[e] != 0))
+        if (ra >= 0 && rb >= 0 && ra != rb)
           angle = std::max(angle, AngleDegrees(out[fa], out[fb]));
       }
     if (angle >= 0)
     {
+      crease[e] = 1;
       result.FeatureEdges.push_back(graph.Edges[e]);
       result.FeatureAngle.push_back(angle);
     }
@@ -675,15 +681,8 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
     result.FieldWidth = width;
     std::vector<int> steps(F, -1);
     std::vector<std::int64_t> queue;
-    std::vector<char> crease(E, 0);
     for (std::int64_t e = 0; e < E; ++e)
     {
-      for (std::int64_t a = graph.EdgeFacePtr[e]; a < graph.EdgeFacePtr[e + 1]; ++a)
-        for (std::int64_t b = a + 1; b < graph.EdgeFacePtr[e + 1]; ++b)
-        {
-          const int ra = result.Region[graph.EdgeFaces[a]], rb = result.Region[graph.EdgeFaces[b]];
-          crease[e] |= ra >= 0 && rb >= 0 && ra != rb && (edgeCrease.empty() || edgeCrease[e] != 0);
-        }
       if (crease[e])
         for (std::int64_t a = graph.EdgeFacePtr[e]; a < graph.EdgeFacePtr[e + 1]; ++a)
           if (steps[graph.EdgeFaces[a]] < 0)

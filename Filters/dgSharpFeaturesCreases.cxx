@@ -248,6 +248,7 @@ enum StretchClass : char
 // Each edge of a line judged on the line's edges within Stretch of it
 // (their midpoints), in the edges' order; the faces' evidence counts once
 // per stretch.
+// Returns each edge's StretchClass.
 std::vector<char> JudgeStretches(const std::vector<LineEdge>& edges, const std::vector<Vec3>& centre,
   const std::vector<int>& slot, const std::vector<SideFit>& fits, const std::vector<TurnSums>& turns,
   const std::vector<Vec3>& sides, const std::vector<double>& cornerDepth,
@@ -282,7 +283,7 @@ std::vector<char> JudgeStretches(const std::vector<LineEdge>& edges, const std::
               visit(it->second);
         }
   };
-  std::vector<char> crease(n, 0);
+  std::vector<char> kind(n, 0);
   vtkSMPThreadLocal<std::pair<Evidence, std::vector<std::int64_t>>> scratch;
   vtkSMPTools::For(0, static_cast<std::int64_t>(n), [&](std::int64_t b, std::int64_t e) {
     auto& local = scratch.Local();
@@ -306,7 +307,7 @@ std::vector<char> JudgeStretches(const std::vector<LineEdge>& edges, const std::
       const bool clear = jv.Crease && jv.Jump >= 2 * settings.MinimumAngle + jv.Allowance &&
         jv.Depth <= 0.5 * settings.CornerDepth &&
         jv.TurnShare >= 0.5 * (1 + settings.MinimumTurnShare);
-      crease[i] = static_cast<char>(jv.Deep ? StretchDeep
+      kind[i] = static_cast<char>(jv.Deep ? StretchDeep
           : clear                          ? StretchClear
           : jv.Crease                      ? StretchCrease
                                            : StretchOther);
@@ -315,20 +316,20 @@ std::vector<char> JudgeStretches(const std::vector<LineEdge>& edges, const std::
   // A bend or a clear crease only as a stretch of its kind at least
   // MinimumStretchEdges long: a few edges' windows tip either way under
   // noise.
-  std::vector<char> kept(crease);
+  std::vector<char> kept(kind);
   vtkSMPTools::For(0, static_cast<std::int64_t>(n), [&](std::int64_t b, std::int64_t e) {
     for (std::int64_t i = b; i < e; ++i)
     {
-      if (crease[i] != StretchDeep && crease[i] != StretchClear)
+      if (kind[i] != StretchDeep && kind[i] != StretchClear)
         continue;
       int same = 0;
-      around(i, [&](std::uint32_t j) { same += crease[j] == crease[i]; });
+      around(i, [&](std::uint32_t j) { same += kind[j] == kind[i]; });
       if (same < settings.MinimumStretchEdges)
-        kept[i] = crease[i] == StretchDeep ? StretchOther : StretchCrease;
+        kept[i] = kind[i] == StretchDeep ? StretchOther : StretchCrease;
     }
   });
-  crease.swap(kept);
-  return crease;
+  kind.swap(kept);
+  return kind;
 }
 
 // The verdict on the line between groups a and b (edges, A on a's side)
@@ -502,7 +503,6 @@ std::vector<CreaseVerdict> TestCreases(const FaceGraph& graph, const std::vector
     const std::vector<char> stretch =
       JudgeStretches(line.second, centre, slot, fits, turns, sides, cornerDepth, settings);
     const int creaseEdges = static_cast<int>(std::count(stretch.begin(), stretch.end(), StretchClear));
-    v.StretchEdges = creaseEdges;
     const bool whole = v.Crease;
     v.Crease = whole || creaseEdges >= settings.MinimumStretchEdges;
     for (std::size_t i = 0; i < line.second.size(); ++i)

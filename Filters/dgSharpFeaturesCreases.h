@@ -82,7 +82,6 @@ struct CreaseVerdict
   double Depth = 0;     // median corner depth (length; NaN without samples)
   double TurnShare = 0; // median near angle over median far angle (NaN without samples)
   int Edges = 0;
-  int StretchEdges = 0; // edges whose stretch is clearly a crease
   bool Deep = false;    // the voxels cut the corner (a bend, whatever the jump)
 };
 
