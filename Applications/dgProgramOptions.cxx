@@ -147,7 +147,9 @@ Outputs (in --output-dir, named PREFIX_*; PREFIX defaults to the input's name)
   --version              the program's version (and VTK's), then exit
 
 Writes PREFIX_surface.vtp (cell data: SharpNormals (active), FeatureRegion,
-ATNormals, IINormals (VCMNormals, RHTNormals with --estimator), trivial Normals; point data: v = ATFeatureIndicator),
+CreaseSides (per face, bit i: its side i is a feature edge), ATNormals,
+IINormals (VCMNormals, RHTNormals with --estimator), trivial Normals; point
+data: v = ATFeatureIndicator),
 PREFIX_features.vtp (the feature lines, with FeatureAngle in degrees; with
 --plain: AT's feature edges, with v) and PREFIX.png. Exit status 0 on success, 1 on bad input, 2 on bad options.
 

@@ -80,7 +80,7 @@ bool ComputeCorrectedCurvatures(std::int64_t numberOfPoints, const double* point
   const std::vector<std::int64_t>& offsets, const std::vector<std::int64_t>& connectivity,
   const double* normals, const int* region, const CurvatureParameters& par,
   CurvatureResult& result, std::string* error, const unsigned char* ghost,
-  const std::int64_t* faceIds)
+  const std::int64_t* faceIds, const unsigned char* creaseSides)
 {
   using namespace curvature;
   auto fail = [&](const std::string& message) {
@@ -110,6 +110,21 @@ bool ComputeCorrectedCurvatures(std::int64_t numberOfPoints, const double* point
   surface.Connectivity = &connectivity;
   surface.Normals = normals;
   surface.Region = region;
+  surface.CreaseSides = region ? creaseSides : nullptr;
+  if (surface.CreaseSides)
+  {
+    surface.OnCrease.assign(numberOfPoints, 0);
+    for (std::int64_t f = 0; f < F; ++f)
+    {
+      const std::int64_t m = offsets[f + 1] - offsets[f];
+      for (std::int64_t i = 0; i < m && i < 8; ++i)
+        if (creaseSides[f] & (1u << i))
+        {
+          surface.OnCrease[connectivity[offsets[f] + i]] = 1;
+          surface.OnCrease[connectivity[offsets[f] + (i + 1) % m]] = 1;
+        }
+    }
+  }
   surface.Ghost = ghost;
   surface.FaceIds = faceIds;
   // Faces around each point (CSR).
@@ -154,7 +169,7 @@ bool ComputeCorrectedCurvatures(std::int64_t numberOfPoints, const double* point
         c += xp;
         V3 up = V3::Zero();
         for (std::int64_t k = start[p]; k < start[p + 1]; ++k)
-          if (!perSide || surface.SameSide(f, around[k]))
+          if (!perSide || surface.SameSide(f, around[k], p))
             up += At(normals, around[k]);
         up = up.norm() > 0 ? up.normalized() : At(normals, f);
         for (int d = 0; d < 3; ++d)
@@ -180,7 +195,7 @@ bool ComputeCorrectedCurvatures(std::int64_t numberOfPoints, const double* point
         {
           const std::int64_t p = connectivity[k];
           for (std::int64_t j = start[p]; j < start[p + 1]; ++j)
-            if (!surface.SameSide(f, around[j]))
+            if (!surface.SameSide(f, around[j], p))
             {
               interior[f] = 0;
               break;

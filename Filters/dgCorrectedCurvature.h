@@ -105,12 +105,18 @@ double CurvatureReach(const CurvatureParameters& parameters, double edgeLength);
 /// surface, whose ghost faces reach at least the ball's radius).
 /// faceIds: one per face or null; global ids, so that pieces agree on which
 /// of a crease edge's two faces reports it (the smaller id's owner).
+/// creaseSides: one per face or null (with regions only): bit i marks the
+/// face's side i (corners i, i + 1) as a drawn crease edge. The creases are
+/// then those edges, not every edge between two regions: at a point no
+/// drawn edge touches, the corner normals take all faces around it, so a
+/// stretch of a region boundary the sharp stage left undrawn (a bend) is
+/// measured as surface, not as a crease. The balls still keep to regions.
 /// Returns false with a message on inconsistent input.
 bool ComputeCorrectedCurvatures(std::int64_t numberOfPoints, const double* points,
   const std::vector<std::int64_t>& offsets, const std::vector<std::int64_t>& connectivity,
   const double* normals, const int* region, const CurvatureParameters& parameters,
   CurvatureResult& result, std::string* error = nullptr, const unsigned char* ghost = nullptr,
-  const std::int64_t* faceIds = nullptr);
+  const std::int64_t* faceIds = nullptr, const unsigned char* creaseSides = nullptr);
 
 } // namespace dg
 

@@ -9,11 +9,20 @@ namespace dg
 namespace curvature
 {
 
+bool Surface::FlagsSide(std::int64_t f, std::int64_t ka, std::int64_t kb) const
+{
+  const std::int64_t b = (*this->Offsets)[f], e = (*this->Offsets)[f + 1];
+  // The side runs from the corner whose next corner is the other.
+  const std::int64_t from = (ka + 1 < e ? ka + 1 : b) == kb ? ka : kb;
+  const std::int64_t side = from - b;
+  return side < 8 && (this->CreaseSides[f] & (1u << side)) != 0;
+}
+
 V3 Surface::CornerNormal(std::int64_t f, std::int64_t p) const
 {
   V3 up = V3::Zero();
   for (std::int64_t k = this->Start[p]; k < this->Start[p + 1]; ++k)
-    if (this->SameSide(f, this->Around[k]))
+    if (this->SameSide(f, this->Around[k], p))
       up += At(this->Normals, this->Around[k]);
   return up.norm() > 0 ? V3(up.normalized()) : At(this->Normals, f);
 }
@@ -185,7 +194,9 @@ double WholeSurfaceFigures(const Surface& surface, const std::vector<V3>& centre
       ++result.BoundaryEdges;
     // A crease edge is reported once, by the piece owning its face of
     // smaller id, and oriented from that face.
-    if (region && n == 2 && region[edges[i].F] != region[edges[i + 1].F])
+    if (region && n == 2 && region[edges[i].F] != region[edges[i + 1].F] &&
+      (!surface.CreaseSides || surface.FlagsSide(edges[i].F, edges[i].KA, edges[i].KB) ||
+        surface.FlagsSide(edges[i + 1].F, edges[i + 1].KA, edges[i + 1].KB)))
     {
       std::int64_t f = edges[i].F, g = edges[i + 1].F;
       if (surface.FaceIds ? surface.FaceIds[g] < surface.FaceIds[f] : g < f)

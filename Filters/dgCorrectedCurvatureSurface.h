@@ -22,6 +22,10 @@ struct Surface
   const std::vector<std::int64_t>* Connectivity = nullptr;
   const double* Normals = nullptr; // 3 per face, unit
   const int* Region = nullptr;     // per face or null
+  // Per face or null: bit i, the side from corner i to i + 1 is a crease.
+  const unsigned char* CreaseSides = nullptr;
+  // With CreaseSides: per point, whether a crease side ends there.
+  std::vector<char> OnCrease;
   const unsigned char* Ghost = nullptr;
   const std::int64_t* FaceIds = nullptr;
   // The faces around each point (CSR), and the corners (positions in
@@ -30,12 +34,18 @@ struct Surface
 
   std::int64_t Faces() const { return static_cast<std::int64_t>(this->Offsets->size()) - 1; }
   bool IsGhost(std::int64_t f) const { return this->Ghost && this->Ghost[f] != 0; }
-  bool SameSide(std::int64_t f, std::int64_t g) const
+  /// Whether face g counts on face f's side at point p: always without
+  /// regions, and at a point no crease side touches.
+  bool SameSide(std::int64_t f, std::int64_t g, std::int64_t p) const
   {
-    return !this->Region || this->Region[f] == this->Region[g];
+    return !this->Region || this->Region[f] == this->Region[g] ||
+      (this->CreaseSides && !this->OnCrease[p]);
   }
-  /// The normal of side `f` at point p: the mean of f's region's faces
-  /// around p.
+  /// Whether face f flags its side between corners ka and kb (positions in
+  /// Connectivity, neighbours in f) as a crease.
+  bool FlagsSide(std::int64_t f, std::int64_t ka, std::int64_t kb) const;
+  /// The normal of side `f` at point p: the mean of the faces around p on
+  /// f's side.
   V3 CornerNormal(std::int64_t f, std::int64_t p) const;
 };
 

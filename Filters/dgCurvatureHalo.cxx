@@ -40,6 +40,7 @@ bool GatherCurvatureHalo(vtkMultiProcessController* controller, double reach, Cu
   const int n = halo.Processes, rank = halo.Rank;
   const std::int64_t F = static_cast<std::int64_t>(mesh.Offsets.size()) - 1;
   const bool regions = !mesh.Region.empty();
+  const bool sides = !mesh.CreaseSides.empty();
   // Every piece's box of face centres (empty: +inf..-inf), and whether it
   // has regions (pieces without faces have no say).
   std::vector<double> centres(3 * F);
@@ -63,18 +64,22 @@ bool GatherCurvatureHalo(vtkMultiProcessController* controller, double reach, Cu
       mine[3 + a] = std::max(mine[3 + a], centres[3 * f + a]);
     }
   }
-  mine[6] = F == 0 ? 0.0 : (regions ? 1.0 : 2.0);
+  mine[6] = F == 0 ? 0.0 : (regions ? 1.0 : 2.0) + (sides ? 2.0 : 0.0);
   // SumAll adds the zeros of the other slots: each slot is one process's.
   halo.SumAll(boxes.data(), 7 * n);
-  bool withRegions = false, withoutRegions = false;
+  bool withRegions = false, withoutRegions = false, withSides = false, withoutSides = false;
   for (int q = 0; q < n; ++q)
   {
-    withRegions = withRegions || boxes[7 * q + 6] == 1.0;
-    withoutRegions = withoutRegions || boxes[7 * q + 6] == 2.0;
+    const double kind = boxes[7 * q + 6];
+    withRegions = withRegions || kind == 1.0 || kind == 3.0;
+    withoutRegions = withoutRegions || kind == 2.0 || kind == 4.0;
+    withSides = withSides || kind > 2.0;
+    withoutSides = withoutSides || kind == 1.0 || kind == 2.0;
   }
-  if (withRegions && withoutRegions)
+  if ((withRegions && withoutRegions) || (withSides && withoutSides))
   {
-    error = "the region array is on some pieces only";
+    error = withRegions && withoutRegions ? "the region array is on some pieces only"
+                                          : "the crease sides array is on some pieces only";
     return false;
   }
 
@@ -96,6 +101,7 @@ bool GatherCurvatureHalo(vtkMultiProcessController* controller, double reach, Cu
       std::vector<std::int64_t>& o = out[q];
       o.push_back(mesh.FaceIds[f]);
       o.push_back(regions ? mesh.Region[f] : 0);
+      o.push_back(sides ? mesh.CreaseSides[f] : 0);
       for (int a = 0; a < 3; ++a)
         o.push_back(Bits(mesh.Normals[3 * f + a]));
       o.push_back(mesh.Offsets[f + 1] - mesh.Offsets[f]);
@@ -118,12 +124,15 @@ bool GatherCurvatureHalo(vtkMultiProcessController* controller, double reach, Cu
     if (q == rank)
       continue;
     const std::vector<std::int64_t>& v = in[q];
-    for (std::size_t i = 0; i + 6 <= v.size();)
+    for (std::size_t i = 0; i + 7 <= v.size();)
     {
       mesh.FaceIds.push_back(v[i++]);
       const std::int64_t region = v[i++];
       if (regions)
         mesh.Region.push_back(static_cast<int>(region));
+      const std::int64_t flags = v[i++];
+      if (sides)
+        mesh.CreaseSides.push_back(static_cast<unsigned char>(flags));
       for (int a = 0; a < 3; ++a)
         mesh.Normals.push_back(Value(v[i++]));
       const std::int64_t m = v[i++];

@@ -25,6 +25,7 @@ struct CurvatureMesh
   std::vector<std::int64_t> Offsets{ 0 }, Connectivity;
   std::vector<double> Normals;              // 3 per face
   std::vector<int> Region;                  // one per face, or empty
+  std::vector<unsigned char> CreaseSides;   // one per face, or empty
   std::vector<std::int64_t> FaceIds;        // global id per face
   std::vector<unsigned char> Ghost;         // one per face
   std::int64_t OwnFaces = 0, OwnPoints = 0;

@@ -156,18 +156,37 @@ std::string MeshParameters::Check() const
 namespace
 {
 // The edges whose faces lie in two or more regions, by ATComplex edge id.
-std::vector<char> CreaseFlags(const ATComplex& K, const int* region)
+// Per edge: 1 where faces of two regions meet, 2 where a face flags it as
+// a crease side (bit i: side i, corners i and i + 1), 3 both.
+std::vector<char> CreaseFlags(const ATComplex& K, const std::vector<std::int64_t>& offsets,
+  const std::vector<std::int64_t>& connectivity, const int* region, const unsigned char* sides)
 {
   const std::int64_t ne = K.NumberOfEdges();
   std::vector<char> crease(ne, 0);
-  if (!region)
-    return crease;
-  for (std::int64_t e = 0; e < ne; ++e)
-  {
-    const int r0 = region[K.EdgeFaces[K.EdgeFacePtr[e]]];
-    for (int j = K.EdgeFacePtr[e] + 1; j < K.EdgeFacePtr[e + 1]; ++j)
-      crease[e] |= region[K.EdgeFaces[j]] != r0;
-  }
+  if (region)
+    for (std::int64_t e = 0; e < ne; ++e)
+    {
+      const int r0 = region[K.EdgeFaces[K.EdgeFacePtr[e]]];
+      for (int j = K.EdgeFacePtr[e] + 1; j < K.EdgeFacePtr[e + 1]; ++j)
+        crease[e] |= region[K.EdgeFaces[j]] != r0;
+    }
+  if (sides)
+    for (std::int64_t f = 0; f < K.NumberOfFaces(); ++f)
+    {
+      const std::int64_t b = offsets[f], m = offsets[f + 1] - b;
+      for (std::int64_t i = 0; i < m && i < 8 && sides[f]; ++i)
+      {
+        if (!(sides[f] & (1u << i)))
+          continue;
+        const std::int64_t p = connectivity[b + i], q = connectivity[b + (i + 1) % m];
+        for (int k = K.FaceEdgePtr[f]; k < K.FaceEdgePtr[f + 1]; ++k)
+        {
+          const int e = K.FaceEdges[k];
+          if (K.EdgeVertices[2 * e] == std::min(p, q) && K.EdgeVertices[2 * e + 1] == std::max(p, q))
+            crease[e] |= 2;
+        }
+      }
+    }
   return crease;
 }
 }
@@ -195,7 +214,8 @@ bool RegularizeMesh(const MeshInput& in, const MeshParameters& p, MeshResult& re
 
   // Edge weights and the crease terms: the crease direction from the pair
   // of faces in different regions whose normals differ most.
-  const std::vector<char> crease = CreaseFlags(K, in.FaceRegion);
+  const std::vector<char> crease =
+    CreaseFlags(K, *in.Offsets, *in.Connectivity, in.FaceRegion, in.FaceCreaseSides);
   const double beta = p.CreaseWeight;
   const double minimumSine = std::sin(p.CreaseMinimumAngle * M_PI / 180.0);
   std::vector<double> weight(ne);
@@ -213,7 +233,7 @@ bool RegularizeMesh(const MeshInput& in, const MeshParameters& p, MeshResult& re
       for (int j = i + 1; j < j1; ++j)
       {
         const int f = K.EdgeFaces[i], g = K.EdgeFaces[j];
-        if (in.FaceRegion[f] == in.FaceRegion[g])
+        if (!(crease[e] & 2) && in.FaceRegion[f] == in.FaceRegion[g])
           continue;
         const Eigen::Vector3d c = normal(f).cross(normal(g));
         if (across[0] < 0 || c.norm() > k.norm())
@@ -449,7 +469,8 @@ std::vector<unsigned char> QuadDiagonals(const double* points,
 }
 
 void SplitPointsAtCreases(std::int64_t numberOfPoints, const std::vector<std::int64_t>& offsets,
-  std::vector<std::int64_t>& connectivity, const int* faceRegion, std::vector<std::int64_t>& copyOf)
+  std::vector<std::int64_t>& connectivity, const int* faceRegion, const unsigned char* creaseSides,
+  std::vector<std::int64_t>& copyOf)
 {
   const std::int64_t nf = offsets.empty() ? 0 : static_cast<std::int64_t>(offsets.size()) - 1;
   const std::int64_t nc = static_cast<std::int64_t>(connectivity.size());
@@ -472,8 +493,13 @@ void SplitPointsAtCreases(std::int64_t numberOfPoints, const std::vector<std::in
   { return i + 1 < offsets[faceOf[i] + 1] ? i + 1 : offsets[faceOf[i]]; };
   auto previous = [&](std::int64_t i)
   { return i > offsets[faceOf[i]] ? i - 1 : offsets[faceOf[i] + 1] - 1; };
+  auto flagged = [&](std::int64_t i)
+  {
+    const std::int64_t side = i - offsets[faceOf[i]];
+    return side < 8 && (creaseSides[faceOf[i]] & (1u << side)) != 0;
+  };
   // Corners of one fan: joined across every side shared by exactly two
-  // faces of the same region.
+  // faces of the same region that no face flags as a crease.
   std::vector<std::int64_t> parent(nc);
   for (std::int64_t i = 0; i < nc; ++i)
     parent[i] = i;
@@ -505,6 +531,11 @@ void SplitPointsAtCreases(std::int64_t numberOfPoints, const std::vector<std::in
       (faceRegion && faceRegion[faceOf[across]] != faceRegion[faceOf[i]]))
       continue;
     const std::int64_t acrossB = connectivity[next(across)] == b ? next(across) : previous(across);
+    // The side a-b is corner i's side in its face, and in the face across
+    // the side of whichever of its two corners comes first.
+    const std::int64_t acrossSide = connectivity[next(across)] == b ? across : acrossB;
+    if (creaseSides && (flagged(i) || flagged(acrossSide)))
+      continue;
     parent[find(i)] = find(across);
     parent[find(j)] = find(acrossB);
   }

@@ -122,6 +122,10 @@ struct MeshInput
   const std::vector<std::int64_t>* Connectivity = nullptr;
   const double* FaceNormals = nullptr; // 3 per face, unit, grid frame
   const int* FaceRegion = nullptr;     // 1 per face, or null: no crease
+  // 1 per face, or null: bit i marks side i (corners i, i + 1) as a crease,
+  // whatever the regions (the sharp stage's drawn edges, which may end
+  // where two regions still meet).
+  const unsigned char* FaceCreaseSides = nullptr;
   // With pieces: the vertex rows' distribution (dgATHalo: the points are
   // its rows, owned first, and the polygons every one around an owned
   // point); the result's owned rows then equal one process's.
@@ -151,13 +155,16 @@ std::vector<unsigned char> QuadDiagonals(const double* points,
   const double* faceNormals);
 
 /// One copy of each point per fan of faces around it, fans being separated
-/// by the creases (edges whose two faces lie in different regions) and by
+/// by the creases (edges whose two faces lie in different regions, or that
+/// a face's `creaseSides` bits flag, as MeshInput::FaceCreaseSides) and by
 /// edges with other than two faces: `copyOf` gets the input point of each
-/// output point, `connectivity` is rewritten onto the copies. A point inside
-/// one region keeps one copy; copies are numbered in point order. Without
-/// regions only the non-manifold edges separate fans.
+/// output point, `connectivity` is rewritten onto the copies. A point with
+/// no crease around it keeps one copy, and so does a point where a crease
+/// ends; copies are numbered in point order. Without regions and flags only
+/// the non-manifold edges separate fans.
 void SplitPointsAtCreases(std::int64_t numberOfPoints, const std::vector<std::int64_t>& offsets,
-  std::vector<std::int64_t>& connectivity, const int* faceRegion, std::vector<std::int64_t>& copyOf);
+  std::vector<std::int64_t>& connectivity, const int* faceRegion, const unsigned char* creaseSides,
+  std::vector<std::int64_t>& copyOf);
 
 } // namespace dg
 

@@ -649,6 +649,21 @@ bool ComputeSharpFeatures(std::int64_t numberOfPoints, const double* points,
       result.FeatureAngle.push_back(angle);
     }
   }
+  // The same edges as each face's sides: the mesh stage's creases. Regions
+  // cannot say it, since a line may be drawn on some stretches only.
+  result.CreaseSides.assign(F, 0);
+  for (std::int64_t f = 0; f < F; ++f)
+  {
+    const std::int64_t b = offsets[f], m = offsets[f + 1] - b;
+    for (std::int64_t i = 0; i < m && i < 8; ++i)
+    {
+      const std::int64_t p = connectivity[b + i], q = connectivity[b + (i + 1) % m];
+      const std::array<std::int64_t, 2> key{ std::min(p, q), std::max(p, q) };
+      for (std::int64_t k = graph.FaceEdgePtr[f]; k < graph.FaceEdgePtr[f + 1]; ++k)
+        if (crease[graph.FaceEdges[k]] && graph.Edges[graph.FaceEdges[k]] == key)
+          result.CreaseSides[f] |= static_cast<unsigned char>(1u << i);
+    }
+  }
   // 10. The output field (dgSharpFeaturesField.h): a twiced Gaussian of the
   // input normals within each side of the kept creases (blended with AT's u
   // away from the lines and AT's band, as much as the surface is noisy), or

@@ -119,6 +119,9 @@ struct SharpFeatureResult
   std::vector<int> Region;      // per face: region id (0..NumberOfRegions-1) or -1
   std::vector<std::array<std::int64_t, 2>> FeatureEdges; // point id pairs
   std::vector<double> FeatureAngle; // per feature edge: normal jump (degrees)
+  // Per face: bit i set when its side i (corners i, i + 1) is a feature edge
+  // (sides past the eighth are not flagged).
+  std::vector<unsigned char> CreaseSides;
   int NumberOfRegions = 0;
   std::int64_t NumberOfBandFaces = 0;
   std::int64_t NumberOfUnassignedFaces = 0; // band faces that met no region

@@ -1,5 +1,6 @@
 #include "vtkCorrectedCurvatureFilter.h"
 
+#include "dgCellArrays.h"
 #include "dgLineCells.h"
 #include "dgCorrectedCurvature.h"
 #include "dgCurvatureHalo.h"
@@ -43,6 +44,8 @@ vtkCorrectedCurvatureFilter::vtkCorrectedCurvatureFilter()
     0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, vtkDataSetAttributes::NORMALS);
   this->SetInputArrayToProcess(
     1, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "FeatureRegion");
+  this->SetInputArrayToProcess(
+    2, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "CreaseSides");
 }
 
 vtkCorrectedCurvatureFilter::~vtkCorrectedCurvatureFilter() = default;
@@ -137,6 +140,7 @@ int vtkCorrectedCurvatureFilter::RequestData(
   // means the default (the active normals, FeatureRegion).
   vtkDataArray* normals = nullptr;
   vtkDataArray* regions = nullptr;
+  vtkDataArray* sides = nullptr;
   if (problem.empty() && nFaces > 0)
   {
     int association = -1;
@@ -157,14 +161,14 @@ int vtkCorrectedCurvatureFilter::RequestData(
   }
   if (problem.empty() && nFaces > 0 && this->PerSide)
   {
-    int regionAssociation = -1;
-    regions = this->GetInputArrayToProcess(1, input, regionAssociation);
-    if (!regions)
-      regions = input->GetCellData()->GetArray("FeatureRegion");
-    else if (regionAssociation != vtkDataObject::FIELD_ASSOCIATION_CELLS ||
-      regions->GetNumberOfComponents() != 1)
-      problem = std::string("The region array '") + (regions->GetName() ? regions->GetName() : "") +
-        "' must be cell data with one component.";
+    int association = -1;
+    vtkDataArray* chosen = this->GetInputArrayToProcess(1, input, association);
+    regions = dg::OneComponentCellArray(chosen, association, input, "FeatureRegion", "region", problem);
+    if (regions)
+    {
+      chosen = this->GetInputArrayToProcess(2, input, association);
+      sides = dg::OneComponentCellArray(chosen, association, input, "CreaseSides", "crease sides", problem);
+    }
   }
   vtkDataArray* cellIds = controller ? dg::GlobalIdArray(input->GetCellData(), nCells) : nullptr;
   vtkDataArray* pointIds = controller ? dg::GlobalIdArray(input->GetPointData(), nPoints) : nullptr;
@@ -222,6 +226,8 @@ int vtkCorrectedCurvatureFilter::RequestData(
           std::to_string(std::sqrt(len2)) + ").";
       if (regions)
         mesh.Region.push_back(static_cast<int>(regions->GetComponent(cell, 0)));
+      if (sides)
+        mesh.CreaseSides.push_back(static_cast<unsigned char>(sides->GetComponent(cell, 0)));
       if (cellIds)
         mesh.FaceIds.push_back(static_cast<std::int64_t>(cellIds->GetComponent(cell, 0)));
       mesh.Ghost.push_back(0);
@@ -319,7 +325,8 @@ int vtkCorrectedCurvatureFilter::RequestData(
   const bool ok = dg::ComputeCorrectedCurvatures(static_cast<std::int64_t>(mesh.Points.size() / 3),
     mesh.Points.data(), mesh.Offsets, mesh.Connectivity, mesh.Normals.data(),
     mesh.Region.empty() ? nullptr : mesh.Region.data(), par, res, &problem, mesh.Ghost.data(),
-    mesh.FaceIds.empty() ? nullptr : mesh.FaceIds.data());
+    mesh.FaceIds.empty() ? nullptr : mesh.FaceIds.data(),
+    mesh.CreaseSides.empty() ? nullptr : mesh.CreaseSides.data());
   if (!agree(ok))
     return refuse();
   if (this->GetAbortExecute())

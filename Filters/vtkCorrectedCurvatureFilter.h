@@ -23,7 +23,13 @@
  * on output port 1: each edge between two regions with the angle by which
  * the normal turns across it (its mean-curvature measure, concentrated on
  * the line, is that angle times the edge's length). Without a region array
- * the surface is one region (there is no crease to keep apart).
+ * the surface is one region (there is no crease to keep apart). With the
+ * sharp stage's "CreaseSides" as well (array 2: per face, bit i set when
+ * the side from corner i to corner i + 1 is a feature edge), the creases
+ * are its drawn edges only: where it left a stretch of a region boundary
+ * undrawn (a sharp edge that ends in a fillet), the corner normals there
+ * take the faces of both regions and no crease is reported (the sides are
+ * named by the faces' corner order, as the sharp stage wrote them).
  *
  * Output port 0: the input (shallow copy) with cell data
  * "CorrectedMeanCurvature" (H, positive on a sphere with outward normals),

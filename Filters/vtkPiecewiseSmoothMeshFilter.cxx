@@ -1,5 +1,6 @@
 #include "vtkPiecewiseSmoothMeshFilter.h"
 
+#include "dgCellArrays.h"
 #include "dgLineCells.h"
 #include "dgPiecewiseSmoothMesh.h"
 #include "dgPieces.h"
@@ -50,6 +51,8 @@ vtkPiecewiseSmoothMeshFilter::vtkPiecewiseSmoothMeshFilter()
     0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "SharpNormals");
   this->SetInputArrayToProcess(
     1, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "FeatureRegion");
+  this->SetInputArrayToProcess(
+    2, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "CreaseSides");
 }
 
 vtkPiecewiseSmoothMeshFilter::~vtkPiecewiseSmoothMeshFilter() = default;
@@ -106,6 +109,7 @@ struct LocalSurface
   std::vector<vtkIdType> InputCell;    // input cell of each face, -1 if received
   std::vector<double> Normals;         // 3 per face, world
   std::vector<int> Region;             // per face, or empty
+  std::vector<unsigned char> Sides;    // per face (crease side bits), or empty
   std::int64_t OwnedFaces = 0;         // faces [0, OwnedFaces) are this process's output
   std::vector<int> VertexOwner;        // per point, with pieces
   std::int64_t Faces() const { return static_cast<std::int64_t>(this->Offsets.size()) - 1; }
@@ -174,6 +178,7 @@ int vtkPiecewiseSmoothMeshFilter::RequestData(
   // means the defaults.
   vtkDataArray* normals = nullptr;
   vtkDataArray* regions = nullptr;
+  vtkDataArray* sides = nullptr;
   if (problem.empty() && nFaces > 0)
   {
     int association = -1;
@@ -190,15 +195,17 @@ int vtkPiecewiseSmoothMeshFilter::RequestData(
       normals->GetNumberOfComponents() != 3)
       problem = std::string("The normal field '") + (normals->GetName() ? normals->GetName() : "") +
         "' must be cell data with 3 components.";
+    // The sharp stage's drawn edges, when the input has them, are the
+    // creases: a line may end where its two regions still meet (a sharp
+    // edge that fades into a fillet), which the regions cannot say.
     if (problem.empty())
     {
-      regions = this->GetInputArrayToProcess(1, input, association);
-      if (!regions)
-        regions = input->GetCellData()->GetArray("FeatureRegion");
-      else if (association != vtkDataObject::FIELD_ASSOCIATION_CELLS ||
-        regions->GetNumberOfComponents() != 1)
-        problem = std::string("The region array '") + (regions->GetName() ? regions->GetName() : "") +
-          "' must be cell data with one component.";
+      vtkDataArray* chosen = this->GetInputArrayToProcess(1, input, association);
+      regions = dg::OneComponentCellArray(chosen, association, input, "FeatureRegion", "region", problem);
+      chosen = this->GetInputArrayToProcess(2, input, association);
+      sides = dg::OneComponentCellArray(chosen, association, input, "CreaseSides", "crease sides", problem);
+      if (sides)
+        regions = nullptr;
     }
   }
   vtkDataArray* cellIds = controller ? dg::GlobalIdArray(input->GetCellData(), nCells) : nullptr;
@@ -258,6 +265,8 @@ int vtkPiecewiseSmoothMeshFilter::RequestData(
       if (regions || inside)
         own.Region.push_back(RegionOf(regions ? regions->GetComponent(cell, 0) : 0.0,
           inside ? inside->GetComponent(cell, 0) : 0.0, outside ? outside->GetComponent(cell, 0) : 0.0));
+      if (sides)
+        own.Sides.push_back(static_cast<unsigned char>(sides->GetComponent(cell, 0)));
     }
     own.OwnedFaces = own.Faces();
   }
@@ -303,6 +312,7 @@ int vtkPiecewiseSmoothMeshFilter::RequestData(
     cm.Connectivity = own.Connectivity;
     cm.Normals = own.Normals;
     cm.Region = own.Region;
+    cm.CreaseSides = own.Sides;
     for (vtkIdType cell : own.InputCell)
       cm.FaceIds.push_back(static_cast<std::int64_t>(cellIds->GetComponent(cell, 0)));
     cm.Ghost.assign(own.Faces(), 0);
@@ -338,6 +348,8 @@ int vtkPiecewiseSmoothMeshFilter::RequestData(
       local.Normals.insert(local.Normals.end(), &cm.Normals[3 * f], &cm.Normals[3 * f] + 3);
       if (!cm.Region.empty())
         local.Region.push_back(cm.Region[f]);
+      if (!cm.CreaseSides.empty())
+        local.Sides.push_back(cm.CreaseSides[f]);
     }
     local.OwnedFaces = halo->OwnedFaces;
     local.VertexOwner = halo->VertexOwner;
@@ -365,6 +377,7 @@ int vtkPiecewiseSmoothMeshFilter::RequestData(
   in.Connectivity = &local.Connectivity;
   in.FaceNormals = gridNormals.data();
   in.FaceRegion = local.Region.empty() ? nullptr : local.Region.data();
+  in.FaceCreaseSides = local.Sides.empty() ? nullptr : local.Sides.data();
   in.Distribution = halo.get();
   dg::MeshResult res;
   const bool ok = dg::RegularizeMesh(in, par, res, problem,
@@ -481,7 +494,8 @@ int vtkPiecewiseSmoothMeshFilter::RequestData(
   std::vector<std::int64_t> splitConn = local.Connectivity, copyOf;
   if (this->SplitFeaturePoints)
     dg::SplitPointsAtCreases(nLocalPoints, local.Offsets, splitConn,
-      local.Region.empty() ? nullptr : local.Region.data(), copyOf);
+      local.Region.empty() ? nullptr : local.Region.data(),
+      local.Sides.empty() ? nullptr : local.Sides.data(), copyOf);
   else
   {
     copyOf.resize(nLocalPoints);

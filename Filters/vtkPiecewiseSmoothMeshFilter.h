@@ -9,9 +9,18 @@
  * filter moves each vertex, within its voxel corner's cell (at most half a
  * voxel along each image axis, so that no two vertices can cross), so that
  * every face becomes orthogonal to its normal (array 0, default
- * "SharpNormals"), each crease line between two feature regions (array 1,
- * default "FeatureRegion", the sharp stage's smooth parts) straightens
- * along the crease, and the mesh stays near the digital surface. The energy
+ * "SharpNormals"), each crease straightens along itself, and the mesh stays
+ * near the digital surface. The creases are the sharp stage's feature
+ * edges, read from its cell data "CreaseSides" (array 2: per face, bit i
+ * set when the side from corner i to corner i + 1 is a feature edge) when
+ * the input has it; otherwise the edges between two feature regions
+ * (array 1, default "FeatureRegion", the sharp stage's smooth parts, or any
+ * region ids of your own). The sides come first because the sharp stage
+ * may leave a stretch of a region boundary undrawn (a sharp edge that
+ * fades into a fillet), which the regions alone would make a crease. The
+ * sides are named by the faces' corner order: a filter between the two
+ * stages that reorders corners (reverses a face's winding, triangulates)
+ * must drop that array or remap its bits. The energy
  * is quadratic in the positions: one sparse symmetric system, solved by
  * conjugate gradients, with the cell bound kept by ADMM (an inequality
  * split off the energy, whose result is always within the cells)
@@ -22,7 +31,8 @@
  *
  * Input: a digital surface (vtkDigitalSurfaceFilter's output or any stage
  * after it: every polygon side one voxel step along an image axis) with a
- * unit cell normal field. Without the region array the mesh has no crease.
+ * unit cell normal field. Without the crease sides and the region array
+ * the mesh has no crease.
  * Label-map interfaces (cell data "LabelInside" and "LabelOutside") split
  * the regions further by label pair, so that the lines where three labels
  * meet are creases; shared vertices move once, so every interface stays
@@ -38,7 +48,7 @@
  * of the field over its faces there), so that smooth shading shows crisp
  * edges; point data "GlobalIds", when present, keeps the original
  * point's id so the copies can be merged again.
- * Output port 1: the creases, each edge between two regions once, as lines
+ * Output port 1: the creases, each crease edge once, as lines
  * on the moved positions, with cell data "FeatureAngle" (degrees between
  * the normals of the faces across the edge).
  *

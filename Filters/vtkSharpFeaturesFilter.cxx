@@ -14,6 +14,7 @@
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
 #include <vtkIntArray.h>
+#include <vtkUnsignedCharArray.h>
 #include <vtkObjectFactory.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
@@ -324,6 +325,9 @@ int vtkSharpFeaturesFilter::Execute(vtkPolyData* input, vtkPolyData* output, vtk
   vtkNew<vtkIntArray> region;
   region->SetName("FeatureRegion");
   region->SetNumberOfTuples(nCells);
+  vtkNew<vtkUnsignedCharArray> sides;
+  sides->SetName("CreaseSides");
+  sides->SetNumberOfTuples(nCells);
   {
     const auto nt = vtk::DataArrayTupleRange<3>(normals);
     for (vtkIdType cell = 0; cell < nCells; ++cell)
@@ -333,12 +337,15 @@ int vtkSharpFeaturesFilter::Execute(vtkPolyData* input, vtkPolyData* output, vtk
       for (int c = 0; c < 3; ++c)
         sharp->SetComponent(cell, c, poly ? res.Normals[3 * f + c] : static_cast<double>(nt[cell][c]));
       region->SetValue(cell, poly ? res.Region[f] : -1);
+      sides->SetValue(cell, poly && res.CreaseSides.size() == static_cast<std::size_t>(nFaces)
+          ? res.CreaseSides[f] : 0);
     }
   }
   // AddArray then SetActiveNormals keeps the input normals for comparison.
   output->GetCellData()->AddArray(sharp);
   output->GetCellData()->SetActiveNormals("SharpNormals");
   output->GetCellData()->AddArray(region);
+  output->GetCellData()->AddArray(sides);
 
   std::vector<vtkIdType> ends;
   ends.reserve(2 * res.FeatureEdges.size());

@@ -40,7 +40,7 @@
  *   stretch is clearly a crease (a sharp edge that ends in fillets);
  * - the feature lines are the edges between faces of different regions,
  *   but for the stretches found to be bends (FeatureRegion still changes
- *   there);
+ *   there; CreaseSides marks the drawn edges on the faces);
  * - the output normals are a twiced Gaussian mean of the input normals
  *   (the side normals within SearchDepth of a line; away from the lines
  *   and AT's band, the input blended with AT's normals as much as the
@@ -54,8 +54,11 @@
  * output port 0. Any other pair of arrays with the same meaning works.
  *
  * Output port 0: the input surface (shallow copy) plus cell data
- * "SharpNormals" (unit, the active normals) and "FeatureRegion" (int: the
- * smooth part each face belongs to, -1 for band faces that met no region).
+ * "SharpNormals" (unit, the active normals), "FeatureRegion" (int: the
+ * smooth part each face belongs to, -1 for band faces that met no region)
+ * and "CreaseSides" (unsigned char: bit i set when the face's side from
+ * corner i to corner i + 1 is a feature edge; the creases that
+ * vtkPiecewiseSmoothMeshFilter and vtkCorrectedCurvatureFilter keep).
  * Output port 1: the feature lines, as line cells on the surface's points,
  * with cell data "FeatureAngle" (degrees, the normal jump across the edge).
  *

@@ -27,6 +27,7 @@
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
+#include <vtkUnsignedCharArray.h>
 
 #include <algorithm>
 #include <array>
@@ -219,7 +220,7 @@ int vtkSharpFeaturesFilter::RequestDataPieces(vtkMultiProcessController* control
 
   // 4. Process 0: the whole surface in one process's order, and the stage.
   int status = 1;
-  std::vector<std::vector<double>> faceResults(size);            // per process: sharp (3), region
+  std::vector<std::vector<double>> faceResults(size);            // per process: sharp (3), region, sides
   std::vector<std::vector<vtkIdType>> lineIds(size);             // per process: point gid pairs
   std::vector<std::vector<double>> lineAngles(size);
   double stats[12] = { 0 };
@@ -305,13 +306,15 @@ int vtkSharpFeaturesFilter::RequestDataPieces(vtkMultiProcessController* control
     {
       vtkDataArray* sharp = wholeOut->GetCellData()->GetArray("SharpNormals");
       vtkDataArray* region = wholeOut->GetCellData()->GetArray("FeatureRegion");
+      vtkDataArray* sides = wholeOut->GetCellData()->GetArray("CreaseSides");
       for (int r = 0; r < size; ++r)
-        faceResults[r].resize(4 * (nFaceValues[r] / per + nGhostIds[r]));
+        faceResults[r].resize(5 * (nFaceValues[r] / per + nGhostIds[r]));
       for (std::size_t f = 0; f < faces.size(); ++f)
       {
-        double* o = &faceResults[faces[f].Rank][4 * faces[f].Index];
+        double* o = &faceResults[faces[f].Rank][5 * faces[f].Index];
         sharp->GetTuple(static_cast<vtkIdType>(f), o);
         o[3] = region->GetComponent(static_cast<vtkIdType>(f), 0);
+        o[4] = sides->GetComponent(static_cast<vtkIdType>(f), 0);
       }
       // Then each process's ghost faces, in the order it listed them (faces
       // is sorted by gid); a ghost no process owns keeps region -2 and the
@@ -320,7 +323,7 @@ int vtkSharpFeaturesFilter::RequestDataPieces(vtkMultiProcessController* control
       for (int r = 0; r < size; ++r)
         for (vtkIdType g = 0; g < nGhostIds[r]; ++g, ++listed)
         {
-          double* o = &faceResults[r][4 * (nFaceValues[r] / per + g)];
+          double* o = &faceResults[r][5 * (nFaceValues[r] / per + g)];
           const auto it = std::lower_bound(faces.begin(), faces.end(), allGhostIds[listed],
             [](const Face& a, vtkIdType gid) { return a.Gid < gid; });
           if (it == faces.end() || it->Gid != allGhostIds[listed])
@@ -331,6 +334,7 @@ int vtkSharpFeaturesFilter::RequestDataPieces(vtkMultiProcessController* control
           const vtkIdType f = static_cast<vtkIdType>(it - faces.begin());
           sharp->GetTuple(f, o);
           o[3] = region->GetComponent(f, 0);
+          o[4] = sides->GetComponent(f, 0);
         }
       // Each line to the process of the first face (in gid order) on it.
       std::map<std::pair<vtkIdType, vtkIdType>, int> sideOwner;
@@ -389,7 +393,7 @@ int vtkSharpFeaturesFilter::RequestDataPieces(vtkMultiProcessController* control
   this->FieldTime = stats[11];
 
   // 5. Each process's part back.
-  std::vector<double> mine(4 * (ownCell.size() + ghostCell.size()));
+  std::vector<double> mine(5 * (ownCell.size() + ghostCell.size()));
   std::vector<vtkIdType> myLineIds;
   std::vector<double> myLineAngles;
   if (rank == 0)
@@ -434,6 +438,9 @@ int vtkSharpFeaturesFilter::RequestDataPieces(vtkMultiProcessController* control
   vtkNew<vtkIntArray> region;
   region->SetName("FeatureRegion");
   region->SetNumberOfTuples(nCells);
+  vtkNew<vtkUnsignedCharArray> sides;
+  sides->SetName("CreaseSides");
+  sides->SetNumberOfTuples(nCells);
   for (vtkIdType c = 0; c < nCells; ++c)
   {
     double t[3] = { 0, 0, 0 };
@@ -441,23 +448,27 @@ int vtkSharpFeaturesFilter::RequestDataPieces(vtkMultiProcessController* control
       normals->GetTuple(c, t);
     sharp->SetTuple(c, t);
     region->SetValue(c, -1);
+    sides->SetValue(c, 0);
   }
   for (std::size_t f = 0; f < ownCell.size(); ++f)
   {
-    sharp->SetTuple(ownCell[f], &mine[4 * f]);
-    region->SetValue(ownCell[f], static_cast<int>(mine[4 * f + 3]));
+    sharp->SetTuple(ownCell[f], &mine[5 * f]);
+    region->SetValue(ownCell[f], static_cast<int>(mine[5 * f + 3]));
+    sides->SetValue(ownCell[f], static_cast<unsigned char>(mine[5 * f + 4]));
   }
   for (std::size_t g = 0; g < ghostCell.size(); ++g)
   {
-    const double* o = &mine[4 * (ownCell.size() + g)];
+    const double* o = &mine[5 * (ownCell.size() + g)];
     if (o[3] == -2)
       continue;
     sharp->SetTuple(ghostCell[g], o);
     region->SetValue(ghostCell[g], static_cast<int>(o[3]));
+    sides->SetValue(ghostCell[g], static_cast<unsigned char>(o[4]));
   }
   output->GetCellData()->AddArray(sharp);
   output->GetCellData()->SetActiveNormals("SharpNormals");
   output->GetCellData()->AddArray(region);
+  output->GetCellData()->AddArray(sides);
   std::unordered_map<vtkIdType, vtkIdType> local;
   for (vtkIdType p = 0; pointIds && p < nPoints; ++p)
     local[static_cast<vtkIdType>(pointIds->GetComponent(p, 0))] = p;
