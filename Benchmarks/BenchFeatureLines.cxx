@@ -288,12 +288,17 @@ void Dump(vtkSharpFeaturesFilter* sharp, vtkAmbrosioTortorelliFilter* at, const 
   vtkNew<vtkDoubleArray> truth;
   truth->SetName("TrueNormals");
   truth->SetNumberOfComponents(3);
+  // The distance to the nearest true sharp edge (capped at 10 voxels).
+  vtkNew<vtkDoubleArray> edgeDistance;
+  edgeDistance->SetName("SharpEdgeDistance");
   for (const V3& x : dgtest::SurfelCenters(surface))
   {
     const V3 t = shape.Normal(x);
     truth->InsertNextTuple3(t.x(), t.y(), t.z());
+    edgeDistance->InsertNextValue(std::min(10.0, shape.DistanceToSharpEdge(x, 10.0)));
   }
   surface->GetCellData()->AddArray(truth);
+  surface->GetCellData()->AddArray(edgeDistance);
   vtkNew<vtkXMLPolyDataWriter> w;
   w->SetInputData(surface);
   w->SetFileName((std::string(dump) + "_surface.vtp").c_str());

@@ -148,6 +148,43 @@ bool ComputeCorrectedCurvatures(std::int64_t numberOfPoints, const double* point
       }
   }
   const auto isGhost = [&](std::int64_t f) { return surface.IsGhost(f); };
+  // The sharp stage flags a drawn edge on every face along it: an edge of
+  // two faces that one flags and the other does not means the flags no
+  // longer match the corners (a filter reordered them in between).
+  if (surface.CreaseSides)
+  {
+    std::int64_t oneSided = 0;
+    for (std::int64_t f = 0; f < F; ++f)
+      for (std::int64_t ka = offsets[f]; ka < offsets[f + 1] && creaseSides[f]; ++ka)
+      {
+        const std::int64_t kb = ka + 1 < offsets[f + 1] ? ka + 1 : offsets[f];
+        if (!surface.FlagsSide(f, ka, kb))
+          continue;
+        // The other faces on the edge, by their corner at a.
+        const std::int64_t a = connectivity[ka], b = connectivity[kb];
+        int others = 0;
+        bool flagged = false;
+        for (std::int64_t j = start[a]; j < start[a + 1]; ++j)
+        {
+          const std::int64_t g = around[j], kg = surface.AroundCorner[j];
+          if (g == f)
+            continue;
+          const std::int64_t gn = kg + 1 < offsets[g + 1] ? kg + 1 : offsets[g];
+          const std::int64_t gp = kg > offsets[g] ? kg - 1 : offsets[g + 1] - 1;
+          for (std::int64_t kc : { gn, gp })
+            if (connectivity[kc] == b)
+            {
+              ++others;
+              flagged = flagged || surface.FlagsSide(g, kg, kc);
+            }
+        }
+        oneSided += others == 1 && !flagged;
+      }
+    if (oneSided > 0)
+      return fail("the crease sides do not match the faces' corners (" + std::to_string(oneSided) +
+        " edges flagged by one of their two faces only): a filter after the sharp stage reordered "
+        "the corners; drop the CreaseSides array or remap its bits");
+  }
 
   // Each face's measures, with corner normals from the faces around each
   // corner: all of them (perSide false), or those of the face's own region.

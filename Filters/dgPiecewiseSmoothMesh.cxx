@@ -157,12 +157,18 @@ namespace
 {
 // The edges whose faces lie in two or more regions, by ATComplex edge id.
 // Per edge: 1 where faces of two regions meet, 2 where a face flags it as
-// a crease side (bit i: side i, corners i and i + 1), 3 both.
+// a crease side (bit i: side i, corners i and i + 1), 3 both. `oneSided`
+// counts the edges of two faces that only one of them flags: flags that
+// no longer match the corners (a filter reordered them after the sharp
+// stage, which flags an edge on every face along it).
 std::vector<char> CreaseFlags(const ATComplex& K, const std::vector<std::int64_t>& offsets,
-  const std::vector<std::int64_t>& connectivity, const int* region, const unsigned char* sides)
+  const std::vector<std::int64_t>& connectivity, const int* region, const unsigned char* sides,
+  std::int64_t& oneSided)
 {
   const std::int64_t ne = K.NumberOfEdges();
   std::vector<char> crease(ne, 0);
+  std::vector<unsigned char> flags(sides ? ne : 0, 0);
+  oneSided = 0;
   if (region)
     for (std::int64_t e = 0; e < ne; ++e)
     {
@@ -183,10 +189,15 @@ std::vector<char> CreaseFlags(const ATComplex& K, const std::vector<std::int64_t
         {
           const int e = K.FaceEdges[k];
           if (K.EdgeVertices[2 * e] == std::min(p, q) && K.EdgeVertices[2 * e + 1] == std::max(p, q))
+          {
             crease[e] |= 2;
+            flags[e] = static_cast<unsigned char>(std::min(255, flags[e] + 1));
+          }
         }
       }
     }
+  for (std::int64_t e = 0; e < static_cast<std::int64_t>(flags.size()); ++e)
+    oneSided += flags[e] == 1 && K.EdgeFacePtr[e + 1] - K.EdgeFacePtr[e] == 2;
   return crease;
 }
 }
@@ -214,8 +225,16 @@ bool RegularizeMesh(const MeshInput& in, const MeshParameters& p, MeshResult& re
 
   // Edge weights and the crease terms: the crease direction from the pair
   // of faces in different regions whose normals differ most.
+  std::int64_t oneSided = 0;
   const std::vector<char> crease =
-    CreaseFlags(K, *in.Offsets, *in.Connectivity, in.FaceRegion, in.FaceCreaseSides);
+    CreaseFlags(K, *in.Offsets, *in.Connectivity, in.FaceRegion, in.FaceCreaseSides, oneSided);
+  if (oneSided > 0)
+  {
+    error = "the crease sides do not match the faces' corners (" + std::to_string(oneSided) +
+      " edges flagged by one of their two faces only): a filter after the sharp stage reordered "
+      "the corners; drop the CreaseSides array or remap its bits";
+    return false;
+  }
   const double beta = p.CreaseWeight;
   const double minimumSine = std::sin(p.CreaseMinimumAngle * M_PI / 180.0);
   std::vector<double> weight(ne);

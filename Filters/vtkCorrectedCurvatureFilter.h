@@ -29,7 +29,9 @@
  * are its drawn edges only: where it left a stretch of a region boundary
  * undrawn (a sharp edge that ends in a fillet), the corner normals there
  * take the faces of both regions and no crease is reported (the sides are
- * named by the faces' corner order, as the sharp stage wrote them).
+ * named by the faces' corner order, as the sharp stage wrote them; bits
+ * that no longer match it, an edge flagged by one of its two faces only,
+ * are an error).
  *
  * Output port 0: the input (shallow copy) with cell data
  * "CorrectedMeanCurvature" (H, positive on a sphere with outward normals),

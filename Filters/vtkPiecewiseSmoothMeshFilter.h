@@ -20,7 +20,8 @@
  * fades into a fillet), which the regions alone would make a crease. The
  * sides are named by the faces' corner order: a filter between the two
  * stages that reorders corners (reverses a face's winding, triangulates)
- * must drop that array or remap its bits. The energy
+ * must drop that array or remap its bits (bits that no longer match, an
+ * edge flagged by one of its two faces only, are an error). The energy
  * is quadratic in the positions: one sparse symmetric system, solved by
  * conjugate gradients, with the cell bound kept by ADMM (an inequality
  * split off the energy, whose result is always within the cells)
@@ -54,7 +55,8 @@
  *
  * Parameters are in voxels. Bad input (no polygons, a surface that is not
  * one of voxel faces, a missing, wrongly sized or non-unit normal field,
- * parameters out of range) gives an error and empty outputs.
+ * crease sides that do not match the corners, parameters out of range)
+ * gives an error and empty outputs.
  *
  * Pieces: under a multi-process controller each process moves the
  * vertices of its own faces (the input's non-ghost cells, matched across

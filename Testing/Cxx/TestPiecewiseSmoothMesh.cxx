@@ -9,6 +9,7 @@
 // Where a figure misses the target the assertion holds the
 // measured value with a margin and says so (docs/mesh.md explains each).
 #include "dgGroundTruth.h"
+#include "dgTestShapes.h"
 #include "dgPipeline.h"
 #include "dgPiecewiseSmoothMesh.h"
 #include "vtkPiecewiseSmoothMeshFilter.h"
@@ -703,6 +704,26 @@ TEST(PiecewiseSmoothMesh, CreaseSidesSplitOnlyWhereTheySeparate)
   EXPECT_EQ(copies(other), 17u);
 }
 
+// The surface with every face's winding reversed and its crease side bits
+// left as they were: flags that no longer match the corners.
+vtkSmartPointer<vtkPolyData> ReversedKeepingSides(vtkPolyData* surface)
+{
+  auto reversed = vtkSmartPointer<vtkPolyData>::New();
+  reversed->ShallowCopy(surface);
+  vtkNew<vtkCellArray> polys;
+  for (vtkIdType c = 0; c < surface->GetNumberOfCells(); ++c)
+  {
+    vtkIdType m = 0;
+    const vtkIdType* ids = nullptr;
+    surface->GetCellPoints(c, m, ids);
+    std::vector<vtkIdType> r(ids, ids + m);
+    std::reverse(r.begin(), r.end());
+    polys->InsertNextCell(m, r.data());
+  }
+  reversed->SetPolys(polys);
+  return reversed;
+}
+
 // The box whose sharp edges end in fillets: the sharp stage draws those
 // edges and leaves undrawn the stretches of its region boundaries that run
 // along the fillets. The mesh's creases are the drawn edges exactly, and
@@ -801,6 +822,18 @@ TEST(PiecewiseSmoothMesh, CreasesAreTheDrawnFeatureEdges)
   EXPECT_EQ(count.count(-1), 0u);
   EXPECT_GT(doubled, 50);
   EXPECT_EQ(strays, 0);
+
+  // Corners reordered after the sharp stage, the bits kept: an error and
+  // empty outputs, not creases on the wrong sides.
+  vtkNew<vtkPiecewiseSmoothMeshFilter> stale;
+  stale->SetInputData(ReversedKeepingSides(surface));
+  vtkNew<dgtest::ErrorObserver> errors;
+  errors->Observe(stale);
+  stale->Update();
+  EXPECT_EQ(errors->Errors, 1);
+  EXPECT_NE(errors->Messages.find("crease sides do not match"), std::string::npos) << errors->Messages;
+  EXPECT_EQ(stale->GetOutput(0)->GetNumberOfCells(), 0);
+  EXPECT_EQ(stale->GetOutput(1)->GetNumberOfCells(), 0);
 }
 
 } // namespace
