@@ -68,6 +68,25 @@ check(nl == edge_length and all_on_edges,
       "%d feature lines, all on the box's edges (edge length %d; AT alone: %d)"
       % (nl, edge_length, at.GetOutputDataObject(1).GetNumberOfLines()))
 
+# The same lines as each face's flagged sides (CreaseSides, bit i: the side
+# from corner i to corner i + 1), which the mesh and curvature stages read.
+flags = out.GetCellData().GetArray("CreaseSides")
+flagged = set()
+for c in range(out.GetNumberOfCells() if flags is not None else 0):
+    ids = out.GetCell(c).GetPointIds()
+    m = ids.GetNumberOfIds()
+    for i in range(m):
+        if int(flags.GetTuple1(c)) & (1 << i):
+            a, b = ids.GetId(i), ids.GetId((i + 1) % m)
+            flagged.add((min(a, b), max(a, b)))
+drawn = set()
+for c in range(nl):
+    a, b = lines.GetCell(c).GetPointId(0), lines.GetCell(c).GetPointId(1)
+    drawn.add((min(a, b), max(a, b)))
+check(flags is not None and flagged == drawn,
+      "CreaseSides flags the feature lines' edges, no other (%d flagged, %d lines)"
+      % (len(flagged), len(drawn)))
+
 # Side normals: every face's normal is its own axis direction, up to the
 # edges (AT leaves the faces along the edges with II's blended normal).
 trivial = out.GetCellData().GetArray("Normals")
