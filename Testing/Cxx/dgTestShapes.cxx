@@ -3,6 +3,7 @@
 #include <vtkCellArray.h>
 #include <vtkIdList.h>
 #include <vtkCellData.h>
+#include <vtkDataSet.h>
 #include <vtkDataArray.h>
 #include <vtkDoubleArray.h>
 #include <vtkNew.h>
@@ -183,6 +184,38 @@ std::vector<Eigen::Vector3d> CellCentres(vtkPolyData* pd)
     out[c] = centre;
   }
   return out;
+}
+
+vtkSmartPointer<vtkPolyData> ReversedKeepingCellData(vtkPolyData* surface)
+{
+  auto reversed = vtkSmartPointer<vtkPolyData>::New();
+  reversed->ShallowCopy(surface);
+  vtkNew<vtkCellArray> polys;
+  for (vtkIdType c = 0; c < surface->GetNumberOfCells(); ++c)
+  {
+    vtkIdType m = 0;
+    const vtkIdType* ids = nullptr;
+    surface->GetCellPoints(c, m, ids);
+    std::vector<vtkIdType> r(ids, ids + m);
+    std::reverse(r.begin(), r.end());
+    polys->InsertNextCell(m, r.data());
+  }
+  reversed->SetPolys(polys);
+  return reversed;
+}
+
+bool RefusedWith(vtkAlgorithm* algorithm, const std::string& words, std::string* why)
+{
+  vtkNew<ErrorObserver> errors;
+  errors->Observe(algorithm);
+  algorithm->Update();
+  vtkIdType cells = 0;
+  for (int port = 0; port < algorithm->GetNumberOfOutputPorts(); ++port)
+    if (auto* data = vtkDataSet::SafeDownCast(algorithm->GetOutputDataObject(port)))
+      cells += data->GetNumberOfCells();
+  *why = std::to_string(errors->Errors) + " errors, " + std::to_string(cells) +
+    " output cells: " + errors->Messages;
+  return errors->Errors == 1 && errors->Messages.find(words) != std::string::npos && cells == 0;
 }
 
 vtkSmartPointer<vtkPoints> FlattenedPoints(vtkPoints* points)

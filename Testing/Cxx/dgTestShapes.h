@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include <vtkAlgorithm.h>
 #include <vtkCommand.h>
 #include <vtkExecutive.h>
 #include <vtkImageData.h>
@@ -57,6 +58,16 @@ std::vector<Eigen::Vector3d> CellCentres(vtkPolyData* pd);
 
 /// A copy of the points pressed into the plane z = 0 (degenerate geometry).
 vtkSmartPointer<vtkPoints> FlattenedPoints(vtkPoints* points);
+
+/// The surface with every polygon's winding reversed and its cell data
+/// left as it was: the sharp stage's CreaseSides bits then name the wrong
+/// sides (a filter that reordered corners after it).
+vtkSmartPointer<vtkPolyData> ReversedKeepingCellData(vtkPolyData* surface);
+
+/// Updates `algorithm` and tells whether it refused its input as the
+/// module's filters must: exactly one error, mentioning `words`, and every
+/// output port empty (no cells). Otherwise `why` says what happened.
+bool RefusedWith(vtkAlgorithm* algorithm, const std::string& words, std::string* why);
 
 /// Records errors and warnings emitted by a VTK object.
 class ErrorObserver : public vtkCommand
