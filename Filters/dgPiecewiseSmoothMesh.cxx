@@ -155,12 +155,12 @@ std::string MeshParameters::Check() const
 
 namespace
 {
-// The edges whose faces lie in two or more regions, by ATComplex edge id.
-// Per edge: 1 where faces of two regions meet, 2 where a face flags it as
-// a crease side (bit i: side i, corners i and i + 1), 3 both. `oneSided`
-// counts the edges of two faces that only one of them flags: flags that
-// no longer match the corners (a filter reordered them after the sharp
-// stage, which flags an edge on every face along it).
+// The crease edges, by ATComplex edge id: 1 where faces of two regions
+// meet, 2 where a face flags it as a crease side (bit i: side i, corners i
+// and i + 1), 3 both. `oneSided` counts the edges of two faces that only
+// one of them flags: flags that no longer match the corners (a filter
+// reordered them after the sharp stage, which flags an edge on every face
+// along it).
 std::vector<char> CreaseFlags(const ATComplex& K, const std::vector<std::int64_t>& offsets,
   const std::vector<std::int64_t>& connectivity, const int* region, const unsigned char* sides,
   std::int64_t& oneSided)
