@@ -58,8 +58,9 @@ struct Crease
 
 /// The figures over the faces this call owns (not ghost) into result:
 /// Area, TotalGaussian, EulerCharacteristic, EulerShare, BoundaryEdges,
-/// Volume; the crease edges between regions into creases. Returns the mean
-/// edge length (1 without edges).
+/// Volume; the crease edges between regions (with CreaseSides, only those
+/// a face flags) into creases. Returns the mean edge length (1 without
+/// edges).
 double WholeSurfaceFigures(const Surface& surface, const std::vector<V3>& centre,
   const std::vector<CorrectedMeasures>& measures, CurvatureResult& result,
   std::vector<Crease>& creases);

@@ -1,8 +1,8 @@
 // A piecewise-smooth mesh from a digital surface and a normal field
 // (issue 36, docs/mesh.md): the surface's vertices move so that every face
-// is orthogonal to its normal, the crease lines between feature regions
-// straighten along their direction, and each vertex stays within its
-// voxel corner's cell.
+// is orthogonal to its normal, the crease lines (the sharp stage's drawn
+// edges, or the edges between feature regions) straighten along their
+// direction, and each vertex stays within its voxel corner's cell.
 //
 // Plain C++ core on the surface's own arrays, in grid units (a voxel side
 // is 1 along each axis: FindSurfaceFrame gives the map from world
