@@ -5,9 +5,11 @@ with GHOSTS ghost layers and prints one line of JSON: the rank, the
 extent, the read's wall time, the process's RSS before the read, its peak
 during the read (VmHWM, reset just before the read through
 /proc/self/clear_refs, so that the import's peak does not count) and a
-checksum of the voxels (sum of value x (1 + point index mod 7)).
+checksum of the voxels (sum of value x (1 + point index mod 7)). With
+REPORT, the line goes to the file REPORT.RANK.json instead: mpirun forwards
+the ranks' stdout through one pipe, where two ranks' lines can meet on one.
 
-    reader_rss.py FILE [GHOSTS]
+    reader_rss.py FILE [GHOSTS [REPORT]]
 """
 import json
 import os
@@ -58,6 +60,10 @@ checksum = 0
 if scalars is not None:
     v = vtk_to_numpy(scalars).astype(np.int64).ravel()
     checksum = int(np.dot(v, 1 + np.arange(v.size, dtype=np.int64) % 7))
-print(json.dumps({"rank": rank, "size": size, "ok": bool(ok), "extent": list(image.GetExtent()),
-                  "seconds": seconds, "rss_before": before, "peak": peak, "checksum": checksum}),
-      flush=True)
+report = json.dumps({"rank": rank, "size": size, "ok": bool(ok), "extent": list(image.GetExtent()),
+                     "seconds": seconds, "rss_before": before, "peak": peak, "checksum": checksum})
+if len(sys.argv) > 3:
+    with open("%s.%d.json" % (sys.argv[3], rank), "w") as f:
+        f.write(report + "\n")
+else:
+    print(report, flush=True)

@@ -52,9 +52,16 @@ def weights(box):
 
 
 def run(ranks):
-    p = subprocess.run(MPIRUN + ["-np", str(ranks), sys.executable, os.path.join(HERE, "reader_rss.py"), path, "1"],
-                       capture_output=True, text=True, timeout=120)
-    lines = [json.loads(l) for l in p.stdout.splitlines() if l.startswith("{")]
+    # Each rank's report in a file of its own: through mpirun's one stdout
+    # pipe two ranks' lines can end up on one line.
+    report = os.path.join(ROOT, "report%d" % ranks)
+    p = subprocess.run(MPIRUN + ["-np", str(ranks), sys.executable, os.path.join(HERE, "reader_rss.py"), path, "1",
+                                 report], capture_output=True, text=True, timeout=120)
+    lines = []
+    for r in range(ranks):
+        if os.path.exists("%s.%d.json" % (report, r)):
+            with open("%s.%d.json" % (report, r)) as f:
+                lines.append(json.loads(f.read()))
     check(p.returncode == 0 and len(lines) == ranks and all(l["ok"] for l in lines),
           "%s, %d rank(s): exit %d, %d report(s)%s" % (KIND, ranks, p.returncode, len(lines),
                                                      "" if p.returncode == 0 else ": " + p.stderr[-300:]))
